@@ -1,0 +1,46 @@
+// sdfbrick: the command line. Exit status 0 on success, 2 for bad input (a malformed scene, an
+// unknown device, a bad option), 1 for any other failure (an OpenCL error, ...). Every failure is
+// one line on stderr.
+#include <cstdio>
+#include <exception>
+
+#include <fmt/format.h>
+
+#include "cl/kernel_source.h"
+#include "cli/commands.h"
+#include "core/errors.h"
+
+int main(int argc, char** argv) {
+    using namespace sdfbrick;
+    CLI::App app{"sdfbrick: sparse signed-distance-field bricks from CSG edit lists, on any OpenCL device"};
+    app.set_version_flag("--version", std::string("sdfbrick ") + SDFBRICK_VERSION);
+    app.require_subcommand(1);
+    app.fallthrough();
+    cli::GlobalOptions global;
+    app.add_option("-d,--device", global.device,
+                   "OpenCL device(s): an index, gpu, cpu, accelerator, all, or part of a device or platform "
+                   "name; comma-separated for several (default: $SDFBRICK_DEVICE, else the first GPU, else device 0)");
+    app.add_option("--kernel-dir", global.kernel_dir,
+                   "load kernel sources from this directory instead of the copies built into the binary "
+                   "(also $SDFBRICK_KERNEL_DIR)");
+    cli::add_devices_command(app, global);
+    cli::add_scene_commands(app, global);
+    cli::add_eval_command(app, global);
+
+    try {
+        app.parse(argc, argv);
+        return 0;
+    } catch (const CLI::Success& e) {
+        return app.exit(e);  // --help, --version
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "sdfbrick: %s\n", e.what());
+        std::fprintf(stderr, "Run with --help for usage.\n");
+        return 2;
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "sdfbrick: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sdfbrick: error: %s\n", e.what());
+        return 1;
+    }
+}

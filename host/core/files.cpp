@@ -1,0 +1,48 @@
+#include "core/files.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "core/errors.h"
+
+namespace sdfbrick {
+
+std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path.string() + ": cannot read: " + std::strerror(errno));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw InputError(path.string() + ": read error");
+    return ss.str();
+}
+
+void write_via_temp(const std::filesystem::path& path, const std::function<void(const std::filesystem::path&)>& write) {
+    std::filesystem::path tmp = path;
+    tmp.replace_filename("." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) +
+                         path.extension().string());
+    try {
+        write(tmp);
+        std::error_code ec;
+        std::filesystem::rename(tmp, path, ec);
+        if (ec) throw InputError(path.string() + ": cannot write: " + ec.message());
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);
+        throw;
+    }
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::string_view content) {
+    write_via_temp(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw InputError(path.string() + ": cannot write: " + std::strerror(errno));
+        out.write(content.data(), static_cast<std::streamsize>(content.size()));
+        out.close();
+        if (!out) throw InputError(path.string() + ": write failed: " + std::strerror(errno));
+    });
+}
+
+}  // namespace sdfbrick

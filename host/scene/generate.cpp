@@ -1,0 +1,197 @@
+#include "scene/generate.h"
+
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace sdfbrick {
+
+std::uint64_t Rng::next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+double Rng::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+double Rng::uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+glm::dquat Rng::rotation() {
+    // Shoemake's method: uniform on the unit 3-sphere.
+    const double u1 = uniform(), u2 = uniform() * 2.0 * M_PI, u3 = uniform() * 2.0 * M_PI;
+    const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
+    return glm::dquat(b * std::cos(u3), a * std::sin(u2), a * std::cos(u2), b * std::sin(u3));
+}
+
+namespace {
+
+constexpr std::array<std::string_view, 5> kNames = {"spheres", "drops", "cubes", "rain", "fractal"};
+
+// Files keep 4 decimals: readable, and what is generated is exactly what is loaded back.
+double r4(double v) { return std::round(v * 1e4) / 1e4; }
+glm::dvec3 r4(const glm::dvec3& v) { return {r4(v.x), r4(v.y), r4(v.z)}; }
+glm::dquat r6(glm::dquat q) {
+    q = glm::normalize(q);
+    if (q.w < 0) q = -q;
+    auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
+    return {r(q.w), r(q.x), r(q.y), r(q.z)};
+}
+
+Edit make_edit(Primitive prim, std::array<double, 4> params, const glm::dvec3& pos) {
+    Edit e;
+    e.primitive = prim;
+    for (auto& p : params) p = r4(p);
+    e.params = params;
+    e.transform.translation = r4(pos);
+    return e;
+}
+
+Scene finish(std::string name, double time, Geometry g, Camera cam) {
+    Scene s;
+    s.name = name;
+    s.time = time;
+    g.name = std::move(name);
+    s.geometries.push_back(std::move(g));
+    s.objects.push_back(Object{s.geometries[0].name, 0, Transform{}});
+    s.camera = cam;
+    s.light = Light{{-0.4, -1.0, -0.3}, {1.0, 1.0, 1.0}, 1.0};
+    return s;
+}
+
+Camera orbit(glm::dvec3 target, double distance, double yaw, double pitch) {
+    Camera c;
+    c.kind = Camera::Kind::Orbit;
+    c.target = target;
+    c.distance = distance;
+    c.yaw_deg = yaw;
+    c.pitch_deg = pitch;
+    return c;
+}
+
+// The fidelity scene: two spheres smoothly blended (source document 000, figure 8).
+Scene spheres(Rng&) {
+    Geometry g;
+    Edit a = make_edit(Primitive::Sphere, {1.0, 0, 0, 0}, {-0.7, 0.0, 0.0});
+    Edit b = make_edit(Primitive::Sphere, {0.8, 0, 0, 0}, {0.8, 0.25, 0.0});
+    b.blend = 0.5;
+    g.edits = {a, b};
+    return finish("spheres", 0.0, g, orbit({0.0, 0.1, 0.0}, 5.0, 20.0, 15.0));
+}
+
+// 1024 falling drops, heavily smooth-blended, inside a column that they wrap around in.
+Scene drops(Rng& rng) {
+    Geometry g;
+    const double lo = -3.0, hi = 3.0;
+    for (int i = 0; i < 1024; ++i) {
+        const glm::dvec3 pos(rng.uniform(-3.2, 3.2), rng.uniform(lo, hi), rng.uniform(-3.2, 3.2));
+        Edit e = make_edit(Primitive::Sphere, {rng.uniform(0.12, 0.34), 0, 0, 0}, pos);
+        e.blend = r4(rng.uniform(0.15, 0.3));
+        Animation a;
+        a.velocity = r4(glm::dvec3(0.0, -rng.uniform(0.3, 0.9), 0.0));
+        a.wrap_y = std::array<double, 2>{lo, hi};
+        e.animation = a;
+        g.edits.push_back(e);
+    }
+    return finish("drops", 5.0, g, orbit({0.0, 0.0, 0.0}, 14.0, 30.0, 20.0));
+}
+
+// 216 edits on a 6^3 lattice: thin plates, beams and hollow cubes, mostly empty space between.
+Scene cubes(Rng& rng) {
+    Geometry g;
+    const double spacing = 1.6;
+    for (int z = 0; z < 6; ++z)
+        for (int y = 0; y < 6; ++y)
+            for (int x = 0; x < 6; ++x) {
+                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 2.5) * spacing +
+                                       glm::dvec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2));
+                const int kind = (x + y + z) % 3;
+                Edit e;
+                if (kind == 0) {  // plate
+                    e = make_edit(Primitive::Box, {rng.uniform(0.45, 0.7), 0.04, rng.uniform(0.45, 0.7), 0}, pos);
+                } else if (kind == 1) {  // beam
+                    e = make_edit(Primitive::Box, {0.05, rng.uniform(0.5, 0.75), 0.05, 0}, pos);
+                } else {  // rounded cube
+                    const double s = rng.uniform(0.3, 0.5);
+                    e = make_edit(Primitive::RoundBox, {s, s, s, 0.05}, pos);
+                }
+                e.transform.rotation = r6(rng.rotation());
+                g.edits.push_back(e);
+            }
+    return finish("cubes", 0.0, g, orbit({0.0, 0.0, 0.0}, 16.0, 35.0, 25.0));
+}
+
+// 512 falling edits of varied sizes in clusters of different densities: streaks (capsules),
+// drops (spheres, ellipsoids); some streaks blend into their neighbours.
+Scene rain(Rng& rng) {
+    Geometry g;
+    const double lo = -3.5, hi = 3.5;
+    struct Cluster { glm::dvec3 centre; double spread; int count; };
+    const std::array<Cluster, 4> clusters = {{{{-2.0, 0.0, -1.5}, 0.9, 220},
+                                              {{1.8, 0.0, 1.2}, 1.6, 160},
+                                              {{1.5, 0.0, -2.2}, 0.6, 80},
+                                              {{-1.5, 0.0, 2.3}, 2.4, 52}}};
+    for (const Cluster& c : clusters)
+        for (int i = 0; i < c.count; ++i) {
+            const glm::dvec3 pos(c.centre.x + rng.uniform(-c.spread, c.spread), rng.uniform(lo, hi),
+                                 c.centre.z + rng.uniform(-c.spread, c.spread));
+            const double size = std::pow(rng.uniform(), 2.0);  // many small, few large
+            const double pick = rng.uniform();
+            Edit e;
+            if (pick < 0.6) {
+                e = make_edit(Primitive::Capsule, {0.1 + 0.5 * size, 0.05 + 0.12 * size, 0, 0}, pos);
+                const glm::dquat tilt = glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(1.0, 0.0, 0.0)) *
+                                        glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(0.0, 0.0, 1.0));
+                e.transform.rotation = r6(tilt);
+            } else if (pick < 0.85) {
+                e = make_edit(Primitive::Sphere, {0.08 + 0.3 * size, 0, 0, 0}, pos);
+            } else {
+                const double r = 0.1 + 0.35 * size;
+                e = make_edit(Primitive::Ellipsoid, {r, r * rng.uniform(1.2, 2.0), r, 0}, pos);
+            }
+            if (rng.uniform() < 0.3) e.blend = r4(rng.uniform(0.05, 0.2));
+            Animation a;
+            a.velocity = r4(glm::dvec3(0.0, -rng.uniform(1.5, 3.0), 0.0));
+            a.wrap_y = std::array<double, 2>{lo, hi};
+            e.animation = a;
+            g.edits.push_back(e);
+        }
+    return finish("rain", 5.0, g, orbit({0.0, 0.0, 0.0}, 15.0, 25.0, 15.0));
+}
+
+// 64 Menger sponges (3 or 4 iterations): few edits, each expensive, with fine structure.
+Scene fractal(Rng& rng) {
+    Geometry g;
+    const double spacing = 1.9;
+    for (int z = 0; z < 4; ++z)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x) {
+                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 1.5) * spacing +
+                                       glm::dvec3(rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15));
+                Edit e = make_edit(Primitive::Menger, {rng.uniform(0.6, 0.8), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
+                e.transform.rotation = r6(rng.rotation());
+                g.edits.push_back(e);
+            }
+    return finish("fractal", 0.0, g, orbit({0.0, 0.0, 0.0}, 13.0, 30.0, 25.0));
+}
+
+}  // namespace
+
+std::span<const std::string_view> generated_scene_names() { return kNames; }
+
+Scene generate_scene(std::string_view name, std::uint64_t seed) {
+    // Each scene gets its own stream, so adding a scene never changes the others.
+    std::uint64_t stream = 0xCBF29CE484222325ull;  // FNV-1a of the name
+    for (char c : name) stream = (stream ^ static_cast<unsigned char>(c)) * 0x100000001B3ull;
+    Rng rng(seed ^ stream);
+    if (name == "spheres") return spheres(rng);
+    if (name == "drops") return drops(rng);
+    if (name == "cubes") return cubes(rng);
+    if (name == "rain") return rain(rng);
+    if (name == "fractal") return fractal(rng);
+    throw InputError(fmt::format("unknown scene \"{}\" (known: spheres, drops, cubes, rain, fractal)", name));
+}
+
+}  // namespace sdfbrick

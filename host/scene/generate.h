@@ -1,0 +1,32 @@
+// Deterministic scene generator: `sdfbrick scene generate NAME --seed N`. The same name and seed
+// give the same scene, byte for byte, on every machine (own RNG, values rounded to 4 decimals).
+// The shipped scenes/*.json were written by it with the default seed.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "scene/scene.h"
+
+namespace sdfbrick {
+
+inline constexpr std::uint64_t kDefaultSceneSeed = 1;
+
+// Names: spheres, drops, cubes, rain, fractal. Unknown name -> InputError.
+Scene generate_scene(std::string_view name, std::uint64_t seed = kDefaultSceneSeed);
+std::span<const std::string_view> generated_scene_names();
+
+// SplitMix64: small, fast, and the same everywhere (std:: distributions are implementation-defined).
+class Rng {
+public:
+    explicit Rng(std::uint64_t seed) : state_(seed) {}
+    std::uint64_t next();
+    double uniform();                      // [0, 1)
+    double uniform(double lo, double hi);  // [lo, hi)
+    glm::dquat rotation();                 // uniform random unit quaternion
+private:
+    std::uint64_t state_;
+};
+
+}  // namespace sdfbrick

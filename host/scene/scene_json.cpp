@@ -1,0 +1,504 @@
+#include "scene/scene_json.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/files.h"
+
+namespace sdfbrick {
+
+using nlohmann::json;
+
+namespace {
+
+// A position in the document: the value, its JSON path, and the file, for error messages.
+class Node {
+public:
+    Node(const json& value, std::string path, std::string_view origin)
+        : value_(value), path_(std::move(path)), origin_(origin) {}
+
+    [[noreturn]] void fail(const std::string& what) const {
+        throw InputError(fmt::format("{}: {}: {}", origin_, path_.empty() ? "/" : path_, what));
+    }
+
+    const json& value() const { return value_; }
+    const std::string& path() const { return path_; }
+
+    // Objects: the keys it may have; anything else is refused (catches typos such as "radus").
+    void expect_object(std::initializer_list<std::string_view> allowed) const {
+        expect_keys(std::vector<std::string_view>(allowed), "this object");
+    }
+    void expect_keys(const std::vector<std::string_view>& allowed, std::string_view what) const {
+        if (!value_.is_object()) fail("expected an object, got " + type_name());
+        for (const auto& [key, v] : value_.items()) {
+            if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+            std::string list;
+            for (auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+            Node(v, path_ + "/" + key, origin_).fail(fmt::format("unknown field (for {}: {})", what, list));
+        }
+    }
+    bool has(std::string_view key) const { return value_.contains(key); }
+    Node operator[](std::string_view key) const {
+        auto it = value_.find(key);
+        if (it == value_.end()) fail(fmt::format("missing field \"{}\"", key));
+        return Node(*it, path_ + "/" + std::string(key), origin_);
+    }
+    Node at(std::size_t i) const { return Node(value_.at(i), fmt::format("{}/{}", path_, i), origin_); }
+
+    std::size_t array_size() const {
+        if (!value_.is_array()) fail("expected an array, got " + type_name());
+        return value_.size();
+    }
+    std::string string() const {
+        if (!value_.is_string()) fail("expected a string, got " + type_name());
+        return value_.get<std::string>();
+    }
+    double number() const {
+        if (!value_.is_number()) fail("expected a number, got " + type_name());
+        const double v = value_.get<double>();
+        if (!std::isfinite(v)) fail("number is not finite");
+        return v;
+    }
+    double positive() const {
+        const double v = number();
+        if (!(v > 0.0)) fail(fmt::format("must be > 0, got {}", v));
+        return v;
+    }
+    double non_negative() const {
+        const double v = number();
+        if (v < 0.0) fail(fmt::format("must be >= 0, got {}", v));
+        return v;
+    }
+    int integer(int lo, int hi) const {
+        const double v = number();
+        if (v != std::floor(v) || v < lo || v > hi) fail(fmt::format("must be an integer in [{}, {}], got {}", lo, hi, v));
+        return static_cast<int>(v);
+    }
+    template <std::size_t N>
+    std::array<double, N> numbers() const {
+        if (array_size() != N) fail(fmt::format("expected an array of {} numbers, got {} elements", N, value_.size()));
+        std::array<double, N> out{};
+        for (std::size_t i = 0; i < N; ++i) out[i] = at(i).number();
+        return out;
+    }
+    glm::dvec3 vec3() const {
+        const auto a = numbers<3>();
+        return {a[0], a[1], a[2]};
+    }
+    glm::dvec3 positive_vec3() const {
+        const glm::dvec3 v = vec3();
+        for (int i = 0; i < 3; ++i)
+            if (!(v[i] > 0.0)) at(static_cast<std::size_t>(i)).fail(fmt::format("must be > 0, got {}", v[i]));
+        return v;
+    }
+    glm::dvec3 nonzero_vec3() const {
+        const glm::dvec3 v = vec3();
+        if (glm::length(v) == 0.0) fail("must not be the zero vector");
+        return v;
+    }
+    // Unit quaternion [x, y, z, w]; within 1e-5 of unit length, then normalised.
+    glm::dquat quaternion() const {
+        const auto a = numbers<4>();
+        const glm::dquat q(a[3], a[0], a[1], a[2]);
+        const double n = glm::length(q);
+        if (std::abs(n - 1.0) > 1e-5) fail(fmt::format("not a unit quaternion [x, y, z, w]: its norm is {}", n));
+        return q / n;
+    }
+
+private:
+    std::string type_name() const { return value_.is_null() ? "null" : value_.type_name(); }
+    const json& value_;
+    std::string path_;
+    std::string_view origin_;
+};
+
+void read_transform_fields(const Node& n, Transform& t) {
+    if (n.has("position")) t.translation = n["position"].vec3();
+    if (n.has("rotation")) t.rotation = n["rotation"].quaternion();
+    if (n.has("scale")) t.scale = n["scale"].positive();
+}
+
+Animation read_animation(const Node& n) {
+    n.expect_object({"velocity", "acceleration", "spin_axis", "spin_rate", "wrap_y"});
+    Animation a;
+    if (n.has("velocity")) a.velocity = n["velocity"].vec3();
+    if (n.has("acceleration")) a.acceleration = n["acceleration"].vec3();
+    if (n.has("spin_axis")) a.spin_axis = n["spin_axis"].nonzero_vec3();
+    if (n.has("spin_rate")) a.spin_rate = n["spin_rate"].number();
+    if (n.has("wrap_y")) {
+        const Node w = n["wrap_y"];
+        const auto r = w.numbers<2>();
+        if (!(r[1] > r[0])) w.fail(fmt::format("needs [low, high] with high > low, got [{}, {}]", r[0], r[1]));
+        a.wrap_y = r;
+    }
+    return a;
+}
+
+Edit read_edit(const Node& n) {
+    if (!n.value().is_object()) n.fail("expected an edit object");
+    const Node prim_node = n["primitive"];
+    const std::string prim_name = prim_node.string();
+    const auto prim = primitive_from_string(prim_name);
+    if (!prim) {
+        std::string names;
+        for (std::size_t i = 0; i < kPrimitiveCount; ++i)
+            names += (i ? ", " : "") + std::string(to_string(static_cast<Primitive>(i)));
+        prim_node.fail(fmt::format("unknown primitive \"{}\" (known: {})", prim_name, names));
+    }
+    Edit e;
+    e.primitive = *prim;
+    auto& p = e.params;
+    const std::initializer_list<std::string_view> common = {"primitive", "position", "rotation", "scale",
+                                                            "op", "blend", "animation"};
+    auto allow = [&](std::initializer_list<std::string_view> own) {
+        std::vector<std::string_view> all(common);
+        all.insert(all.end(), own);
+        n.expect_keys(all, "a " + prim_name);
+    };
+    switch (e.primitive) {
+        case Primitive::Sphere:
+            allow({"radius"});
+            p[0] = n["radius"].positive();
+            break;
+        case Primitive::Box: {
+            allow({"half_extents"});
+            const glm::dvec3 b = n["half_extents"].positive_vec3();
+            p = {b.x, b.y, b.z, 0.0};
+            break;
+        }
+        case Primitive::RoundBox: {
+            allow({"half_extents", "rounding"});
+            const glm::dvec3 b = n["half_extents"].positive_vec3();
+            const Node r = n["rounding"];
+            p = {b.x, b.y, b.z, r.non_negative()};
+            if (p[3] > std::min({b.x, b.y, b.z}))
+                r.fail(fmt::format("must not exceed the smallest half extent ({}), got {}", std::min({b.x, b.y, b.z}), p[3]));
+            break;
+        }
+        case Primitive::Torus:
+            allow({"major_radius", "minor_radius"});
+            p[0] = n["major_radius"].positive();
+            p[1] = n["minor_radius"].positive();
+            break;
+        case Primitive::Capsule:
+            allow({"half_length", "radius"});
+            p[0] = n["half_length"].non_negative();
+            p[1] = n["radius"].positive();
+            break;
+        case Primitive::Cylinder:
+            allow({"half_height", "radius"});
+            p[0] = n["half_height"].positive();
+            p[1] = n["radius"].positive();
+            break;
+        case Primitive::Cone:
+            allow({"half_height", "radius_bottom", "radius_top"});
+            p[0] = n["half_height"].positive();
+            p[1] = n["radius_bottom"].non_negative();
+            p[2] = n["radius_top"].non_negative();
+            if (p[1] == 0.0 && p[2] == 0.0) n["radius_top"].fail("radius_bottom and radius_top must not both be 0");
+            break;
+        case Primitive::Ellipsoid: {
+            allow({"radii"});
+            const glm::dvec3 r = n["radii"].positive_vec3();
+            p = {r.x, r.y, r.z, 0.0};
+            break;
+        }
+        case Primitive::Menger:
+            allow({"half_size", "iterations"});
+            p[0] = n["half_size"].positive();
+            p[1] = n.has("iterations") ? n["iterations"].integer(1, 6) : 3;
+            break;
+    }
+    read_transform_fields(n, e.transform);
+    if (n.has("op")) {
+        const Node o = n["op"];
+        const std::string name = o.string();
+        const auto op = op_from_string(name);
+        if (!op) o.fail(fmt::format("unknown operation \"{}\" (known: add, subtract, intersect)", name));
+        e.op = *op;
+    }
+    if (n.has("blend")) e.blend = n["blend"].non_negative();
+    if (n.has("animation")) e.animation = read_animation(n["animation"]);
+    return e;
+}
+
+Geometry read_geometry(const Node& n) {
+    n.expect_object({"name", "edits"});
+    Geometry g;
+    g.name = n["name"].string();
+    if (g.name.empty()) n["name"].fail("must not be empty");
+    const Node edits = n["edits"];
+    const std::size_t count = edits.array_size();
+    if (count > SDF_MAX_EDITS)
+        edits.fail(fmt::format("{} edits; a geometry holds at most {}", count, SDF_MAX_EDITS));
+    g.edits.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) g.edits.push_back(read_edit(edits.at(i)));
+    return g;
+}
+
+Camera read_camera(const Node& n) {
+    n.expect_object({"orbit", "look_at", "fov_deg"});
+    Camera c;
+    if (n.has("orbit") == n.has("look_at")) n.fail("needs exactly one of \"orbit\" and \"look_at\"");
+    if (n.has("orbit")) {
+        const Node o = n["orbit"];
+        o.expect_object({"target", "distance", "yaw_deg", "pitch_deg"});
+        c.kind = Camera::Kind::Orbit;
+        if (o.has("target")) c.target = o["target"].vec3();
+        c.distance = o["distance"].positive();
+        if (o.has("yaw_deg")) c.yaw_deg = o["yaw_deg"].number();
+        if (o.has("pitch_deg")) {
+            c.pitch_deg = o["pitch_deg"].number();
+            if (std::abs(c.pitch_deg) >= 90.0) o["pitch_deg"].fail("must lie strictly between -90 and 90");
+        }
+    } else {
+        const Node l = n["look_at"];
+        l.expect_object({"eye", "target", "up"});
+        c.kind = Camera::Kind::LookAt;
+        c.eye = l["eye"].vec3();
+        c.target = l["target"].vec3();
+        if (l.has("up")) c.up = l["up"].nonzero_vec3();
+        if (glm::length(c.target - c.eye) == 0.0) l["target"].fail("must differ from eye");
+        if (glm::length(glm::cross(c.target - c.eye, c.up)) == 0.0) l["up"].fail("must not be parallel to the view direction");
+    }
+    if (n.has("fov_deg")) {
+        c.fov_deg = n["fov_deg"].positive();
+        if (c.fov_deg >= 180.0) n["fov_deg"].fail("must be below 180");
+    }
+    return c;
+}
+
+Light read_light(const Node& n) {
+    n.expect_object({"direction", "color", "intensity"});
+    Light l;
+    if (n.has("direction")) l.direction = n["direction"].nonzero_vec3();
+    if (n.has("color")) {
+        const Node c = n["color"];
+        l.color = c.vec3();
+        for (int i = 0; i < 3; ++i)
+            if (l.color[i] < 0.0) c.at(static_cast<std::size_t>(i)).fail("must be >= 0");
+    }
+    if (n.has("intensity")) l.intensity = n["intensity"].non_negative();
+    return l;
+}
+
+// A camera that sees the whole scene: orbit around the bounds' centre.
+Camera default_camera(const Scene& s) {
+    Aabb all;
+    for (const Object& o : s.objects) all.grow(bounds(s, o));
+    Camera c;
+    if (all.empty()) return c;
+    c.target = all.centre();
+    const double radius = 0.5 * glm::length(all.extent());
+    c.distance = std::max(radius / std::sin(glm::radians(c.fov_deg) * 0.5), 1e-3);
+    return c;
+}
+
+std::string line_column(std::string_view text, std::size_t byte) {
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
+        if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
+    }
+    return fmt::format("line {}, column {}", line, col);
+}
+
+}  // namespace
+
+Scene scene_from_json(const json& j, std::string_view origin) {
+    const Node root(j, "", origin);
+    root.expect_object({"version", "name", "time", "geometries", "objects", "camera", "light"});
+    if (root.has("version")) {
+        const int v = root["version"].integer(0, 1 << 20);
+        if (v != kSceneFormatVersion) root["version"].fail(fmt::format("unsupported version {} (this build reads {})", v, kSceneFormatVersion));
+    }
+    Scene s;
+    if (root.has("name")) s.name = root["name"].string();
+    if (root.has("time")) s.time = root["time"].number();
+    const Node geos = root["geometries"];
+    const std::size_t ng = geos.array_size();
+    if (ng == 0) geos.fail("needs at least one geometry");
+    std::map<std::string, std::size_t> by_name;
+    for (std::size_t i = 0; i < ng; ++i) {
+        const Node g = geos.at(i);
+        s.geometries.push_back(read_geometry(g));
+        if (!by_name.emplace(s.geometries.back().name, i).second)
+            g["name"].fail(fmt::format("duplicate geometry name \"{}\"", s.geometries.back().name));
+    }
+    if (root.has("objects")) {
+        const Node objs = root["objects"];
+        const std::size_t no = objs.array_size();
+        for (std::size_t i = 0; i < no; ++i) {
+            const Node o = objs.at(i);
+            o.expect_object({"name", "geometry", "position", "rotation", "scale"});
+            Object obj;
+            const Node gname = o["geometry"];
+            const std::string name = gname.string();
+            const auto it = by_name.find(name);
+            if (it == by_name.end()) gname.fail(fmt::format("no geometry named \"{}\"", name));
+            obj.geometry = it->second;
+            obj.name = o.has("name") ? o["name"].string() : name;
+            read_transform_fields(o, obj.transform);
+            s.objects.push_back(obj);
+        }
+    } else {
+        for (std::size_t i = 0; i < ng; ++i) s.objects.push_back(Object{s.geometries[i].name, i, Transform{}});
+    }
+    s.camera = root.has("camera") ? read_camera(root["camera"]) : default_camera(scene_at(s, s.time));
+    if (root.has("light")) s.light = read_light(root["light"]);
+    return s;
+}
+
+Scene parse_scene(std::string_view text, std::string_view origin) {
+    json j;
+    try {
+        j = json::parse(text.begin(), text.end());
+    } catch (const json::parse_error& e) {
+        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..."
+        std::string msg = e.what();
+        const auto pos = msg.find("syntax error");
+        msg = pos == std::string::npos ? msg : msg.substr(pos);
+        const bool truncated = e.byte >= text.size();
+        throw InputError(fmt::format("{}: {}: invalid JSON: {}{}", origin, line_column(text, e.byte ? e.byte - 1 : 0),
+                                     msg, truncated ? " (is the file truncated?)" : ""));
+    }
+    return scene_from_json(j, origin);
+}
+
+Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_file(path), path.string()); }
+
+namespace {
+
+json vec(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+
+void write_transform_fields(json& j, const Transform& t) {
+    if (t.translation != glm::dvec3(0.0)) j["position"] = vec(t.translation);
+    if (t.rotation != glm::dquat(1.0, 0.0, 0.0, 0.0))
+        j["rotation"] = json::array({t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w});
+    if (t.scale != 1.0) j["scale"] = t.scale;
+}
+
+json edit_to_json(const Edit& e) {
+    json j;
+    j["primitive"] = std::string(to_string(e.primitive));
+    const auto& p = e.params;
+    switch (e.primitive) {
+        case Primitive::Sphere: j["radius"] = p[0]; break;
+        case Primitive::Box: j["half_extents"] = {p[0], p[1], p[2]}; break;
+        case Primitive::RoundBox: j["half_extents"] = {p[0], p[1], p[2]}; j["rounding"] = p[3]; break;
+        case Primitive::Torus: j["major_radius"] = p[0]; j["minor_radius"] = p[1]; break;
+        case Primitive::Capsule: j["half_length"] = p[0]; j["radius"] = p[1]; break;
+        case Primitive::Cylinder: j["half_height"] = p[0]; j["radius"] = p[1]; break;
+        case Primitive::Cone: j["half_height"] = p[0]; j["radius_bottom"] = p[1]; j["radius_top"] = p[2]; break;
+        case Primitive::Ellipsoid: j["radii"] = {p[0], p[1], p[2]}; break;
+        case Primitive::Menger: j["half_size"] = p[0]; j["iterations"] = static_cast<int>(p[1]); break;
+    }
+    write_transform_fields(j, e.transform);
+    if (e.op != Op::Add) j["op"] = std::string(to_string(e.op));
+    if (e.blend != 0.0) j["blend"] = e.blend;
+    if (e.animation) {
+        const Animation& a = *e.animation;
+        json an = json::object();
+        if (a.velocity != glm::dvec3(0.0)) an["velocity"] = vec(a.velocity);
+        if (a.acceleration != glm::dvec3(0.0)) an["acceleration"] = vec(a.acceleration);
+        if (a.spin_rate != 0.0) { an["spin_axis"] = vec(a.spin_axis); an["spin_rate"] = a.spin_rate; }
+        if (a.wrap_y) an["wrap_y"] = {(*a.wrap_y)[0], (*a.wrap_y)[1]};
+        j["animation"] = an;
+    }
+    return j;
+}
+
+}  // namespace
+
+json scene_to_json(const Scene& s) {
+    json j;
+    j["version"] = kSceneFormatVersion;
+    j["name"] = s.name;
+    j["time"] = s.time;
+    json geos = json::array();
+    for (const Geometry& g : s.geometries) {
+        json edits = json::array();
+        for (const Edit& e : g.edits) edits.push_back(edit_to_json(e));
+        geos.push_back({{"name", g.name}, {"edits", edits}});
+    }
+    j["geometries"] = geos;
+    json objs = json::array();
+    for (const Object& o : s.objects) {
+        json oj;
+        oj["name"] = o.name;
+        oj["geometry"] = s.geometries.at(o.geometry).name;
+        write_transform_fields(oj, o.transform);
+        objs.push_back(oj);
+    }
+    j["objects"] = objs;
+    json cam;
+    if (s.camera.kind == Camera::Kind::Orbit)
+        cam["orbit"] = {{"target", vec(s.camera.target)}, {"distance", s.camera.distance},
+                        {"yaw_deg", s.camera.yaw_deg}, {"pitch_deg", s.camera.pitch_deg}};
+    else
+        cam["look_at"] = {{"eye", vec(s.camera.eye)}, {"target", vec(s.camera.target)}, {"up", vec(s.camera.up)}};
+    cam["fov_deg"] = s.camera.fov_deg;
+    j["camera"] = cam;
+    j["light"] = {{"direction", vec(s.light.direction)}, {"color", vec(s.light.color)}, {"intensity", s.light.intensity}};
+    return j;
+}
+
+namespace {
+
+bool is_flat(const json& j) {
+    if (j.is_array()) return std::all_of(j.begin(), j.end(), [](const json& v) { return v.is_primitive(); });
+    if (j.is_object())
+        return std::all_of(j.begin(), j.end(), [](const json& v) { return v.is_primitive() || (v.is_array() && is_flat(v)) || (v.is_object() && is_flat(v)); });
+    return true;
+}
+
+void format_into(std::string& out, const json& j, int indent, int depth) {
+    const std::string one_line = j.dump();
+    if (!j.is_structured() || j.empty() || (is_flat(j) && one_line.size() <= 200)) {
+        // nlohmann's compact dump, with a space after ':' and ',' for readability (outside strings).
+        bool in_string = false, escaped = false;
+        for (char c : one_line) {
+            out += c;
+            if (in_string) {
+                if (escaped) escaped = false;
+                else if (c == '\\') escaped = true;
+                else if (c == '"') in_string = false;
+            } else if (c == '"') {
+                in_string = true;
+            } else if (c == ',' || c == ':') {
+                out += ' ';
+            }
+        }
+        return;
+    }
+    const std::string pad(static_cast<std::size_t>(indent * (depth + 1)), ' ');
+    const bool is_object = j.is_object();
+    out += is_object ? "{\n" : "[\n";
+    std::size_t i = 0;
+    for (auto it = j.begin(); it != j.end(); ++it, ++i) {
+        out += pad;
+        if (is_object) out += json(it.key()).dump() + ": ";
+        format_into(out, *it, indent, depth + 1);
+        out += i + 1 < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(static_cast<std::size_t>(indent * depth), ' ') + (is_object ? "}" : "]");
+}
+
+}  // namespace
+
+std::string format_json(const json& j, int indent) {
+    std::string out;
+    format_into(out, j, indent, 0);
+    out += '\n';
+    return out;
+}
+
+std::string format_scene(const Scene& s) { return format_json(scene_to_json(s)); }
+
+void save_scene(const Scene& s, const std::filesystem::path& path) { write_file_atomic(path, format_scene(s)); }
+
+}  // namespace sdfbrick

@@ -1,0 +1,32 @@
+// The scene file: JSON <-> Scene. docs/scene-format.md is the reference for the format.
+// Every error is an InputError whose one-line message names the file and the JSON path
+// ("scenes/a.json: /geometries/0/edits/3/radius: must be > 0, got -1") or, for syntax errors,
+// the line and column.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.h"
+
+namespace sdfbrick {
+
+inline constexpr int kSceneFormatVersion = 1;
+
+Scene load_scene(const std::filesystem::path& path);
+// `origin` names the source in error messages (a file name, or "<string>").
+Scene parse_scene(std::string_view text, std::string_view origin);
+Scene scene_from_json(const nlohmann::json& j, std::string_view origin);
+
+nlohmann::json scene_to_json(const Scene& s);
+// Readable text: one edit per line, short arrays inline.
+std::string format_scene(const Scene& s);
+void save_scene(const Scene& s, const std::filesystem::path& path);
+
+// JSON text with scalar arrays and small flat objects on one line (used for scenes and reports).
+std::string format_json(const nlohmann::json& j, int indent = 2);
+
+}  // namespace sdfbrick

@@ -1,0 +1,127 @@
+/* sdf_edit.h: evaluation of edits and edit lists, shared by every kernel that reads the field.
+ *
+ * Determinism (DESIGN.md section 4): only + - * / sqrt fabs fmin fmax floor, with FP_CONTRACT OFF
+ * (the program builder puts the pragma first) and correctly rounded divide/sqrt where the device
+ * supports it. No built-in dot/length/normalize/distance/mix: their rounding and fusing are not
+ * specified, so the sums are written out here in a fixed order.
+ * The formulas are documented in docs/scene-format.md; host/reference/ evaluates the same
+ * definitions independently in double precision.
+ */
+#ifndef SDFBRICK_SDF_EDIT_H
+#define SDFBRICK_SDF_EDIT_H
+
+#include "sdf_types.h"
+
+inline float sdf_dot2(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
+inline float sdf_dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline float sdf_len2(float x, float y) { return sqrt(x * x + y * y); }
+inline float sdf_len3(float3 a) { return sqrt(sdf_dot3(a, a)); }
+inline float sdf_max3(float3 a) { return fmax(fmax(a.x, a.y), a.z); }
+inline float sdf_min3(float3 a) { return fmin(fmin(a.x, a.y), a.z); }
+
+/* Rotate v by the conjugate of the unit quaternion q = (x, y, z, w):
+ * t = 2 cross(u, v); v' = v + w t + cross(u, t), u = -q.xyz. */
+inline float3 sdf_rotate_inverse(const float q[4], float3 v) {
+    const float3 u = (float3)(-q[0], -q[1], -q[2]);
+    const float w = q[3];
+    const float3 t = (float3)(2.0f * (u.y * v.z - u.z * v.y),
+                              2.0f * (u.z * v.x - u.x * v.z),
+                              2.0f * (u.x * v.y - u.y * v.x));
+    const float3 c = (float3)(u.y * t.z - u.z * t.y, u.z * t.x - u.x * t.z, u.x * t.y - u.y * t.x);
+    return v + w * t + c;
+}
+
+inline float sdf_box(float3 p, float3 b) {
+    const float3 q = fabs(p) - b;
+    return sdf_len3(fmax(q, (float3)(0.0f))) + fmin(sdf_max3(q), 0.0f);
+}
+
+inline float sdf_cone(float3 p, float h, float r1, float r2) {
+    const float qx = sdf_len2(p.x, p.z), qy = p.y;
+    const float k1x = r2, k1y = h;
+    const float k2x = r2 - r1, k2y = 2.0f * h;
+    const float cax = qx - fmin(qx, qy < 0.0f ? r1 : r2);
+    const float cay = fabs(qy) - h;
+    const float t = clamp(sdf_dot2(k1x - qx, k1y - qy, k2x, k2y) / sdf_dot2(k2x, k2y, k2x, k2y), 0.0f, 1.0f);
+    const float cbx = qx - k1x + k2x * t;
+    const float cby = qy - k1y + k2y * t;
+    const float s = (cbx < 0.0f && cay < 0.0f) ? -1.0f : 1.0f;
+    return s * sqrt(fmin(sdf_dot2(cax, cay, cax, cay), sdf_dot2(cbx, cby, cbx, cby)));
+}
+
+inline float sdf_menger(float3 p, float half_size, int iterations) {
+    const float3 u = p / half_size;
+    float d = sdf_box(u, (float3)(1.0f));
+    float sc = 1.0f;
+    for (int i = 0; i < iterations; ++i) {
+        const float3 x = u * sc;
+        const float3 a = x - 2.0f * floor(x * 0.5f) - 1.0f; /* mod(x, 2) - 1 */
+        sc *= 3.0f;
+        const float3 r = fabs(1.0f - 3.0f * fabs(a));
+        const float da = fmax(r.x, r.y), db = fmax(r.y, r.z), dc = fmax(r.z, r.x);
+        d = fmax(d, (fmin(fmin(da, db), dc) - 1.0f) / sc);
+    }
+    return d * half_size;
+}
+
+/* Distance of a primitive in its local frame (before scale and Lipschitz division). */
+inline float sdf_primitive(uint kind, const float prm[4], float3 p) {
+    switch (kind) {
+        case SDF_PRIM_SPHERE: return sdf_len3(p) - prm[0];
+        case SDF_PRIM_BOX: return sdf_box(p, (float3)(prm[0], prm[1], prm[2]));
+        case SDF_PRIM_ROUND_BOX:
+            return sdf_box(p, (float3)(prm[0] - prm[3], prm[1] - prm[3], prm[2] - prm[3])) - prm[3];
+        case SDF_PRIM_TORUS: return sdf_len2(sdf_len2(p.x, p.z) - prm[0], p.y) - prm[1];
+        case SDF_PRIM_CAPSULE: {
+            const float3 q = (float3)(p.x, p.y - clamp(p.y, -prm[0], prm[0]), p.z);
+            return sdf_len3(q) - prm[1];
+        }
+        case SDF_PRIM_CYLINDER: {
+            const float dx = sdf_len2(p.x, p.z) - prm[1], dy = fabs(p.y) - prm[0];
+            return fmin(fmax(dx, dy), 0.0f) + sdf_len2(fmax(dx, 0.0f), fmax(dy, 0.0f));
+        }
+        case SDF_PRIM_CONE: return sdf_cone(p, prm[0], prm[1], prm[2]);
+        case SDF_PRIM_ELLIPSOID: {
+            const float3 r = (float3)(prm[0], prm[1], prm[2]);
+            return (sdf_len3(p / r) - 1.0f) * sdf_min3(r);
+        }
+        case SDF_PRIM_MENGER: return sdf_menger(p, prm[0], (int)prm[1]);
+        default: return SDF_FAR;
+    }
+}
+
+/* Value of one edit at p (geometry frame): primitive(local(p)) * scale / L. */
+inline float sdf_edit_value(const SdfEdit* e, float3 p) {
+    const float3 t = (float3)(e->transform.translation[0], e->transform.translation[1], e->transform.translation[2]);
+    const float s = e->transform.scale;
+    const float3 lp = sdf_rotate_inverse(e->transform.rotation, p - t) / s;
+    return sdf_primitive(e->primitive, e->params, lp) * s * e->inv_lipschitz;
+}
+
+/* Compact-support quadratic smooth minimum: equals min(a, b) when |a - b| >= k. */
+inline float sdf_smooth_min(float a, float b, float k) {
+    const float h = fmax(k - fabs(a - b), 0.0f) / k;
+    return fmin(a, b) - h * h * k * 0.25f;
+}
+inline float sdf_smooth_max(float a, float b, float k) {
+    const float h = fmax(k - fabs(a - b), 0.0f) / k;
+    return fmax(a, b) + h * h * k * 0.25f;
+}
+
+/* Combine the field so far with one edit's value. */
+inline float sdf_combine(uint op, float k, float field, float v) {
+    const int smooth = k > 0.0f;
+    switch (op) {
+        case SDF_OP_ADD: return smooth ? sdf_smooth_min(field, v, k) : fmin(field, v);
+        case SDF_OP_SUBTRACT: return smooth ? sdf_smooth_max(field, -v, k) : fmax(field, -v);
+        case SDF_OP_INTERSECT: return smooth ? sdf_smooth_max(field, v, k) : fmax(field, v);
+        default: return field;
+    }
+}
+
+/* Apply one edit (held in private memory) to the field at p. */
+inline float sdf_apply_edit(const SdfEdit* e, float field, float3 p) {
+    return sdf_combine(e->op, e->blend, field, sdf_edit_value(e, p));
+}
+
+#endif /* SDFBRICK_SDF_EDIT_H */
