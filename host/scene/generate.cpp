@@ -141,14 +141,14 @@ Scene rain(Rng& rng) {
             const double pick = rng.uniform();
             Edit e;
             if (pick < 0.6) {
-                e = make_edit(Primitive::Capsule, {0.1 + 0.5 * size, 0.05 + 0.12 * size, 0, 0}, pos);
+                e = make_edit(Primitive::Capsule, {0.18 + 0.8 * size, 0.08 + 0.2 * size, 0, 0}, pos);
                 const glm::dquat tilt = glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(1.0, 0.0, 0.0)) *
                                         glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(0.0, 0.0, 1.0));
                 e.transform.rotation = r6(tilt);
             } else if (pick < 0.85) {
-                e = make_edit(Primitive::Sphere, {0.08 + 0.3 * size, 0, 0, 0}, pos);
+                e = make_edit(Primitive::Sphere, {0.14 + 0.45 * size, 0, 0, 0}, pos);
             } else {
-                const double r = 0.1 + 0.35 * size;
+                const double r = 0.17 + 0.5 * size;
                 e = make_edit(Primitive::Ellipsoid, {r, r * rng.uniform(1.2, 2.0), r, 0}, pos);
             }
             if (rng.uniform() < 0.3) e.blend = r4(rng.uniform(0.05, 0.2));
@@ -164,17 +164,17 @@ Scene rain(Rng& rng) {
 // 64 Menger sponges (3 or 4 iterations): few edits, each expensive, with fine structure.
 Scene fractal(Rng& rng) {
     Geometry g;
-    const double spacing = 1.9;
+    const double spacing = 1.5;
     for (int z = 0; z < 4; ++z)
         for (int y = 0; y < 4; ++y)
             for (int x = 0; x < 4; ++x) {
                 const glm::dvec3 pos = (glm::dvec3(x, y, z) - 1.5) * spacing +
                                        glm::dvec3(rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15));
-                Edit e = make_edit(Primitive::Menger, {rng.uniform(0.6, 0.8), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
+                Edit e = make_edit(Primitive::Menger, {rng.uniform(0.42, 0.56), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
                 e.transform.rotation = r6(rng.rotation());
                 g.edits.push_back(e);
             }
-    return finish("fractal", 0.0, g, orbit({0.0, 0.0, 0.0}, 13.0, 30.0, 25.0));
+    return finish("fractal", 0.0, g, orbit({0.0, 0.0, 0.0}, 10.0, 30.0, 25.0));
 }
 
 }  // namespace
