@@ -82,7 +82,8 @@ TEST(SceneJson, GeneratedScenesAreDeterministicAndRoundTrip) {
     for (auto name : generated_scene_names()) {
         const Scene a = generate_scene(name, 7);
         EXPECT_EQ(format_scene(a), format_scene(generate_scene(name, 7))) << name;
-        EXPECT_NE(format_scene(a), format_scene(generate_scene(name, 8))) << name;
+        if (name != "spheres")  // the fidelity scene is fixed; the others are drawn from the seed
+            EXPECT_NE(format_scene(a), format_scene(generate_scene(name, 8))) << name;
         EXPECT_EQ(format_scene(parse_scene(format_scene(a), "x")), format_scene(a)) << name;
     }
 }
@@ -102,9 +103,9 @@ TEST(SceneJson, BadInputNamesThePlace) {
         {"truncated file", std::string(kMinimal).substr(0, 40), "line 1, column"},
         {"truncated file", std::string(kMinimal).substr(0, 40), "truncated"},
         {"syntax error", "{\"geometries\": [}", "invalid JSON"},
-        {"NaN literal", with_edit(R"({"primitive": "sphere", "radius": NaN})"), "invalid JSON"},
-        {"infinite number", with_edit(R"({"primitive": "sphere", "radius": 1e999})"), "/geometries/0/edits/0/radius: number is not finite"},
-        {"infinite position", with_edit(R"({"primitive": "sphere", "radius": 1, "position": [0, -1e400, 0]})"), "/geometries/0/edits/0/position/1: number is not finite"},
+        {"NaN literal", with_edit(R"({"primitive": "sphere", "radius": NaN})"), "/geometries/0/edits/0/radius: invalid JSON at line 1"},
+        {"infinite number", with_edit(R"({"primitive": "sphere", "radius": 1e999})"), "/geometries/0/edits/0/radius: number is not finite: 1e999"},
+        {"infinite position", with_edit(R"({"primitive": "sphere", "radius": 1, "position": [0, -1e400, 0]})"), "/geometries/0/edits/0/position/1: number is not finite: -1e400"},
         {"unknown primitive", with_edit(R"({"primitive": "sphre", "radius": 1})"), "/geometries/0/edits/0/primitive: unknown primitive \"sphre\""},
         {"unknown op", with_edit(R"({"primitive": "sphere", "radius": 1, "op": "union"})"), "/geometries/0/edits/0/op: unknown operation \"union\""},
         {"missing field", with_edit(R"({"primitive": "torus", "major_radius": 1})"), "/geometries/0/edits/0: missing field \"minor_radius\""},

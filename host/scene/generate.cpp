@@ -33,11 +33,10 @@ constexpr std::array<std::string_view, 5> kNames = {"spheres", "drops", "cubes",
 // Files keep 4 decimals: readable, and what is generated is exactly what is loaded back.
 double r4(double v) { return std::round(v * 1e4) / 1e4; }
 glm::dvec3 r4(const glm::dvec3& v) { return {r4(v.x), r4(v.y), r4(v.z)}; }
-glm::dquat r6(glm::dquat q) {
+// Unit to rounding, w >= 0: the file reader keeps such a quaternion bit for bit.
+glm::dquat unit(glm::dquat q) {
     q = glm::normalize(q);
-    if (q.w < 0) q = -q;
-    auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
-    return {r(q.w), r(q.x), r(q.y), r(q.z)};
+    return q.w < 0 ? -q : q;
 }
 
 Edit make_edit(Primitive prim, std::array<double, 4> params, const glm::dvec3& pos) {
@@ -117,7 +116,7 @@ Scene cubes(Rng& rng) {
                     const double s = rng.uniform(0.3, 0.5);
                     e = make_edit(Primitive::RoundBox, {s, s, s, 0.05}, pos);
                 }
-                e.transform.rotation = r6(rng.rotation());
+                e.transform.rotation = unit(rng.rotation());
                 g.edits.push_back(e);
             }
     return finish("cubes", 0.0, g, orbit({0.0, 0.0, 0.0}, 16.0, 35.0, 25.0));
@@ -144,7 +143,7 @@ Scene rain(Rng& rng) {
                 e = make_edit(Primitive::Capsule, {0.18 + 0.8 * size, 0.08 + 0.2 * size, 0, 0}, pos);
                 const glm::dquat tilt = glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(1.0, 0.0, 0.0)) *
                                         glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(0.0, 0.0, 1.0));
-                e.transform.rotation = r6(tilt);
+                e.transform.rotation = unit(tilt);
             } else if (pick < 0.85) {
                 e = make_edit(Primitive::Sphere, {0.14 + 0.45 * size, 0, 0, 0}, pos);
             } else {
@@ -171,7 +170,7 @@ Scene fractal(Rng& rng) {
                 const glm::dvec3 pos = (glm::dvec3(x, y, z) - 1.5) * spacing +
                                        glm::dvec3(rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15));
                 Edit e = make_edit(Primitive::Menger, {rng.uniform(0.42, 0.56), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
-                e.transform.rotation = r6(rng.rotation());
+                e.transform.rotation = unit(rng.rotation());
                 g.edits.push_back(e);
             }
     return finish("fractal", 0.0, g, orbit({0.0, 0.0, 0.0}, 10.0, 30.0, 25.0));

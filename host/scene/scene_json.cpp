@@ -107,7 +107,8 @@ public:
         const glm::dquat q(a[3], a[0], a[1], a[2]);
         const double n = glm::length(q);
         if (std::abs(n - 1.0) > 1e-5) fail(fmt::format("not a unit quaternion [x, y, z, w]: its norm is {}", n));
-        return q / n;
+        // Normalised unless already unit to rounding, so that writing and reading back is exact.
+        return std::abs(n - 1.0) <= 4e-16 ? q : q / n;
     }
 
 private:
@@ -353,20 +354,64 @@ Scene scene_from_json(const json& j, std::string_view origin) {
     return s;
 }
 
-Scene parse_scene(std::string_view text, std::string_view origin) {
-    json j;
-    try {
-        j = json::parse(text.begin(), text.end());
-    } catch (const json::parse_error& e) {
-        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 5: syntax error ..."
-        std::string msg = e.what();
-        const auto pos = msg.find("syntax error");
-        msg = pos == std::string::npos ? msg : msg.substr(pos);
-        const bool truncated = e.byte >= text.size();
-        throw InputError(fmt::format("{}: {}: invalid JSON: {}{}", origin, line_column(text, e.byte ? e.byte - 1 : 0),
-                                     msg, truncated ? " (is the file truncated?)" : ""));
+namespace {
+
+// SAX pass that follows the JSON path while parsing, so that a syntax error or a number that
+// overflows a double is reported with the place it occurred, as well as the line and column.
+class PathTracker : public nlohmann::json_sax<json> {
+public:
+    PathTracker(std::string_view text, std::string_view origin) : text_(text), origin_(origin) {}
+    std::string error;
+
+    bool null() override { return value(); }
+    bool boolean(bool) override { return value(); }
+    bool number_integer(number_integer_t) override { return value(); }
+    bool number_unsigned(number_unsigned_t) override { return value(); }
+    bool number_float(number_float_t, const string_t&) override { return value(); }
+    bool string(string_t&) override { return value(); }
+    bool binary(binary_t&) override { return value(); }
+    bool start_object(std::size_t) override { stack_.push_back({false, 0, ""}); return true; }
+    bool key(string_t& k) override { stack_.back().key = k; return true; }
+    bool end_object() override { stack_.pop_back(); return value(); }
+    bool start_array(std::size_t) override { stack_.push_back({true, 0, ""}); return true; }
+    bool end_array() override { stack_.pop_back(); return value(); }
+    bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& ex) override {
+        const std::string where = line_column(text_, position ? position - 1 : 0);
+        if (ex.id == 406) {  // out_of_range: number overflow
+            error = fmt::format("{}: {}: number is not finite: {} ({})", origin_, path(), token, where);
+            return false;
+        }
+        std::string msg = ex.what();
+        const auto cut = msg.find("syntax error");
+        if (cut != std::string::npos) msg = msg.substr(cut);
+        const bool truncated = position >= text_.size();
+        error = fmt::format("{}: {}: invalid JSON at {}: {}{}", origin_, path(), where, msg,
+                            truncated ? " (is the file truncated?)" : "");
+        return false;
     }
-    return scene_from_json(j, origin);
+
+private:
+    struct Level { bool array; std::size_t index; std::string key; };
+    bool value() {
+        if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
+        return true;
+    }
+    std::string path() const {
+        std::string p;
+        for (const Level& l : stack_) p += "/" + (l.array ? std::to_string(l.index) : l.key);
+        return p.empty() ? "/" : p;
+    }
+    std::string_view text_;
+    std::string_view origin_;
+    std::vector<Level> stack_;
+};
+
+}  // namespace
+
+Scene parse_scene(std::string_view text, std::string_view origin) {
+    PathTracker tracker(text, origin);
+    if (!json::sax_parse(text.begin(), text.end(), &tracker)) throw InputError(tracker.error);
+    return scene_from_json(json::parse(text.begin(), text.end()), origin);
 }
 
 Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_file(path), path.string()); }
@@ -458,7 +503,7 @@ bool is_flat(const json& j) {
 
 void format_into(std::string& out, const json& j, int indent, int depth) {
     const std::string one_line = j.dump();
-    if (!j.is_structured() || j.empty() || (is_flat(j) && one_line.size() <= 200)) {
+    if (!j.is_structured() || j.empty() || (is_flat(j) && one_line.size() <= 280)) {
         // nlohmann's compact dump, with a space after ':' and ',' for readability (outside strings).
         bool in_string = false, escaped = false;
         for (char c : one_line) {

@@ -1,0 +1,109 @@
+// Typed device buffers. Buffer<T> owns a cl_mem of count elements of T on one Device; reads and
+// writes are blocking and go through the device's queue. A zero-element buffer is valid (OpenCL
+// forbids zero-byte allocations, so one element is allocated and size() stays 0).
+#pragma once
+
+#include <CL/cl.h>
+
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cl/device.h"
+#include "cl/handles.h"
+
+namespace sdfbrick::ocl {
+
+template <class T>
+class Buffer {
+    static_assert(std::is_trivially_copyable_v<T>, "a device buffer holds trivially copyable elements");
+
+public:
+    // flags: CL_MEM_READ_WRITE, CL_MEM_READ_ONLY, CL_MEM_WRITE_ONLY (no host pointer flags).
+    Buffer(Device& device, std::size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE)
+        : device_(&device), count_(count) {
+        if (count > std::numeric_limits<std::size_t>::max() / sizeof(T)) {
+            throw std::length_error(fmt::format("a buffer of {} elements of {} bytes does not fit in memory",
+                                                count, sizeof(T)));
+        }
+        const std::size_t allocated = count == 0 ? sizeof(T) : count * sizeof(T);
+        cl_int status = CL_SUCCESS;
+        memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));
+        if (status != CL_SUCCESS) {
+            throw ClError(status, fmt::format("allocating a buffer of {} bytes ({} elements of {} bytes) on {} "
+                                              "(largest allocation {} bytes, global memory {} bytes)",
+                                              allocated, count, sizeof(T), device.info().name,
+                                              device.info().max_alloc_bytes, device.info().global_mem_bytes));
+        }
+    }
+
+    Buffer(Buffer&&) noexcept = default;
+    Buffer& operator=(Buffer&&) noexcept = default;
+    Buffer(const Buffer&) = delete;  // two owners of one allocation would be a surprise
+    Buffer& operator=(const Buffer&) = delete;
+    ~Buffer() = default;
+
+    // Allocates data.size() elements and writes data.
+    Buffer(Device& device, std::span<const T> data, cl_mem_flags flags = CL_MEM_READ_WRITE)
+        : Buffer(device, data.size(), flags) {
+        write(data);
+    }
+
+    std::size_t size() const { return count_; }
+    std::size_t bytes() const { return count_ * sizeof(T); }
+    cl_mem get() const { return memory_.get(); }
+    Device& device() const { return *device_; }
+
+    // Writes data to elements [first, first + data.size()); blocks until done.
+    void write(std::span<const T> data, std::size_t first = 0) {
+        check_range(first, data.size(), "writing");
+        if (data.empty()) {
+            return;
+        }
+        check(clEnqueueWriteBuffer(device_->queue(), memory_.get(), CL_TRUE, first * sizeof(T), data.size_bytes(),
+                                   data.data(), 0, nullptr, nullptr),
+              [&] { return transfer("writing", first, data.size()); });
+    }
+
+    // Reads elements [first, first + out.size()) into out; blocks until done.
+    void read_into(std::span<T> out, std::size_t first = 0) const {
+        check_range(first, out.size(), "reading");
+        if (out.empty()) {
+            return;
+        }
+        check(clEnqueueReadBuffer(device_->queue(), memory_.get(), CL_TRUE, first * sizeof(T), out.size_bytes(),
+                                  out.data(), 0, nullptr, nullptr),
+              [&] { return transfer("reading", first, out.size()); });
+    }
+
+    std::vector<T> read() const {
+        std::vector<T> values(count_);
+        read_into(values);
+        return values;
+    }
+
+private:
+    std::string transfer(std::string_view what, std::size_t first, std::size_t count) const {
+        return fmt::format("{} elements [{}, {}) of a {}-element buffer ({} bytes each) on {}", what, first,
+                           first + count, count_, sizeof(T), device_->info().name);
+    }
+
+    void check_range(std::size_t first, std::size_t count, std::string_view what) const {
+        if (first > count_ || count > count_ - first) {
+            throw std::out_of_range(fmt::format("{} elements [{}, {}) of a buffer of {} elements", what, first,
+                                                first + count, count_));
+        }
+    }
+
+    Device* device_;
+    std::size_t count_;
+    MemObject memory_;
+};
+
+}  // namespace sdfbrick::ocl

@@ -1,0 +1,82 @@
+// Programs: kernel files built for one device with fixed, deterministic options, cached in memory
+// (per Device) and on disk (binaries keyed by a hash of device, driver, source and options).
+//
+// Every program is built with -cl-std=CL1.2, plus -cl-fp32-correctly-rounded-divide-sqrt where the
+// device supports it, and its source starts with '#pragma OPENCL FP_CONTRACT OFF'. Options that
+// change floating-point results (fast/relaxed math, mad, ...) are refused.
+//
+// Disk cache directory: $SDFBRICK_CACHE_DIR ("off" disables the disk cache), else
+// $XDG_CACHE_HOME/sdfbrick/programs, else $HOME/.cache/sdfbrick/programs. A cache entry that cannot be
+// read, fails its checksum, or fails to load or build is deleted and the program is built from
+// source: a damaged cache never breaks a run.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "cl/handles.h"
+
+namespace sdfbrick::ocl {
+
+class Device;
+
+inline constexpr const char* kCacheDirEnv = "SDFBRICK_CACHE_DIR";
+
+enum class ProgramOrigin { compiled, disk_cache, memory_cache };
+std::string_view to_string(ProgramOrigin origin);  // "compiled", "disk cache", "memory cache"
+
+// How a program came to be, for reports.
+struct BuildRecord {
+    std::string kernel_file;
+    std::string device_name;
+    std::string options;  // the complete option string given to the compiler
+    std::string key;      // 16 hex digits: FNV-1a 64 of platform, device, driver, source, options
+    bool correctly_rounded_divide_sqrt = false;  // whether the options ask for it
+    ProgramOrigin origin = ProgramOrigin::compiled;
+    double build_ms = 0.0;  // wall time of build_program: compile, cache load, or memory look-up
+    std::string log;        // the compiler's log of the build that produced the binary
+    std::optional<std::filesystem::path> cache_file;  // the disk cache entry; empty when the disk cache is off
+    std::string cache_note;  // why the disk cache was not used as expected (damaged entry, write failure); usually empty
+
+    bool from_cache() const { return origin != ProgramOrigin::compiled; }
+};
+
+class Program {
+public:
+    Program(ProgramHandle handle, BuildRecord record) : handle_(std::move(handle)), record_(std::move(record)) {}
+
+    cl_program get() const { return handle_.get(); }
+    const ProgramHandle& handle() const { return handle_; }
+    const BuildRecord& record() const { return record_; }
+
+private:
+    ProgramHandle handle_;
+    BuildRecord record_;
+};
+
+// The disk cache directory now in effect (see above), or std::nullopt when the disk cache is off.
+std::optional<std::filesystem::path> program_cache_dir();
+
+// Builds kernel_file (see kernel_source.h) for device. extra_options: further compiler options,
+// usually -D defines. Throws ClError on a failed build: the message names the file, the device, the
+// options, and holds the full build log. Throws std::invalid_argument for a refused option.
+Program build_program(Device& device, std::string_view kernel_file, std::string_view extra_options = "");
+
+// Throws ClError naming the kernel (and the kernels the program does define) on failure.
+Kernel make_kernel(const Program& program, const char* name);
+
+// Disk cache entries: a short text header (format, key, sizes, checksum) then the build log and the
+// binary. Exposed for tests.
+struct CacheEntry {
+    std::string key;
+    std::string log;
+    std::string binary;
+};
+std::string encode_cache_entry(const CacheEntry& entry);
+// std::nullopt when bytes are not a complete entry with a matching checksum.
+std::optional<CacheEntry> decode_cache_entry(std::string_view bytes);
+
+}  // namespace sdfbrick::ocl

@@ -1,0 +1,136 @@
+// The command line as a user meets it: exit status, one-line errors, no partial output files,
+// the shipped scenes, and the generator reproducing them byte for byte.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/files.h"
+#include "sdf_types.h"
+#include "test_support.h"
+
+namespace sdfbrick {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int status = -1;
+    std::string out, err;
+};
+
+// Runs the sdfbrick binary with `args` (a shell fragment), capturing stdout and stderr.
+CliRun sdfbrick(const std::string& args, const std::string& env = "") {
+    // One directory per test: CTest runs the tests in parallel processes.
+    const fs::path dir = test::temp_dir(std::string("cli_run_") + testing::UnitTest::GetInstance()->current_test_info()->name());
+    const std::string cmd = env + " " SDFBRICK_CLI_PATH " " + args + " >" + (dir / "out").string() + " 2>" +
+                            (dir / "err").string();
+    const int raw = std::system(cmd.c_str());
+    CliRun r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = read_file(dir / "out");
+    r.err = read_file(dir / "err");
+    return r;
+}
+
+// The device the tests run on (tests/test_support.cpp reads the same variable).
+std::string test_device_spec() {
+    const char* spec = std::getenv("SDFBRICK_TEST_DEVICE");
+    return spec && *spec ? spec : "cpu";
+}
+
+std::string scene_path(const std::string& name) { return std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json"; }
+
+TEST(Cli, DevicesListsAtLeastOneDevice) {
+    const CliRun r = sdfbrick("devices --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_TRUE(j.is_array());
+    ASSERT_FALSE(j.empty());
+    EXPECT_TRUE(j[0].contains("name"));
+    EXPECT_TRUE(j[0].contains("compute_units"));
+}
+
+TEST(Cli, SceneInfoReportsEditCounts) {
+    const std::pair<const char*, int> expected[] = {{"spheres", 2}, {"drops", 1024}, {"cubes", 216}, {"rain", 512}, {"fractal", 64}};
+    for (const auto& [name, edits] : expected) {
+        const CliRun r = sdfbrick("scene info " + scene_path(name) + " --json");
+        ASSERT_EQ(r.status, 0) << name << ": " << r.err;
+        const auto j = nlohmann::json::parse(r.out);
+        EXPECT_EQ(j["geometries"][0]["edits"].template get<int>(), edits) << name;
+    }
+}
+
+TEST(Cli, GeneratorReproducesShippedScenes) {
+    for (const char* name : {"spheres", "drops", "cubes", "rain", "fractal"}) {
+        const CliRun r = sdfbrick(std::string("scene generate ") + name);
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(r.out, read_file(scene_path(name))) << name << ": scenes/" << name
+                                                      << ".json differs from `sdfbrick scene generate " << name << "`";
+    }
+}
+
+TEST(Cli, EvalWritesPictureAndReport) {
+    const fs::path dir = test::temp_dir("cli_eval");
+    const CliRun r = sdfbrick("eval " + scene_path("spheres") + " --size 64 -o " + (dir / "s.ppm").string() + " --json " +
+                           (dir / "r.json").string(), "SDFBRICK_DEVICE=" + test_device_spec());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "s.ppm"));
+    const auto j = nlohmann::json::parse(read_file(dir / "r.json"));
+    EXPECT_EQ(j["scene"]["edits"].get<int>(), 2);
+    EXPECT_EQ(j["devices"][0]["accuracy"]["sign_mismatches"].get<int>(), 0);
+    EXPECT_LT(j["devices"][0]["accuracy"]["max_abs_error"].get<double>(), 1e-5);
+    EXPECT_GT(j["devices"][0]["device_ms"].get<double>(), 0.0);
+}
+
+// Every kind of bad input: exit status 2, one line on stderr naming the place, no output file.
+TEST(Cli, BadInputIsRefusedCleanly) {
+    const fs::path dir = test::temp_dir("cli_bad");
+    struct Case { const char* what; std::string file_text; std::string expect; std::string extra_args; };
+    const std::string ok_scene = R"({"geometries": [{"name": "g", "edits": [{"primitive": "sphere", "radius": 1}]}]})";
+    const Case cases[] = {
+        {"truncated", ok_scene.substr(0, 30), "line 1, column", ""},
+        {"unknown primitive", R"({"geometries": [{"name": "g", "edits": [{"primitive": "blob", "radius": 1}]}]})", "/geometries/0/edits/0/primitive", ""},
+        {"unknown op", R"({"geometries": [{"name": "g", "edits": [{"primitive": "sphere", "radius": 1, "op": "xor"}]}]})", "/geometries/0/edits/0/op", ""},
+        {"missing field", R"({"geometries": [{"name": "g", "edits": [{"primitive": "sphere"}]}]})", "missing field \"radius\"", ""},
+        {"infinite", R"({"geometries": [{"name": "g", "edits": [{"primitive": "sphere", "radius": 1e999}]}]})", "not finite", ""},
+        {"NaN", R"({"geometries": [{"name": "g", "edits": [{"primitive": "sphere", "radius": NaN}]}]})", "invalid JSON", ""},
+        {"negative size", R"({"geometries": [{"name": "g", "edits": [{"primitive": "box", "half_extents": [1, -1, 1]}]}]})", "/half_extents/1: must be > 0", ""},
+        {"non-unit quaternion", R"({"geometries": [{"name": "g", "edits": [{"primitive": "sphere", "radius": 1, "rotation": [1, 1, 0, 0]}]}]})", "not a unit quaternion", ""},
+        {"unknown device", ok_scene, "no OpenCL device matches 'no-such-device'", "--device no-such-device"},
+    };
+    int n = 0;
+    for (const Case& c : cases) {
+        const fs::path scene = dir / ("bad" + std::to_string(n++) + ".json");
+        std::ofstream(scene) << c.file_text;
+        const fs::path img = dir / "out.ppm", report = dir / "out.json";
+        const CliRun r = sdfbrick(c.extra_args + " eval " + scene.string() + " -o " + img.string() + " --json " + report.string());
+        EXPECT_EQ(r.status, 2) << c.what << ": " << r.err;
+        EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.what << ": stderr was: " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.what << ": not one line: " << r.err;
+        if (c.extra_args.empty()) EXPECT_NE(r.err.find(scene.string()), std::string::npos) << c.what << ": file not named: " << r.err;
+        EXPECT_FALSE(fs::exists(img)) << c.what << ": left a picture behind";
+        EXPECT_FALSE(fs::exists(report)) << c.what << ": left a report behind";
+        for (const auto& entry : fs::directory_iterator(dir))
+            EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << c.what << ": left " << entry.path();
+    }
+    // Too many edits: generated rather than written out by hand.
+    std::string many = R"({"geometries": [{"name": "g", "edits": [)";
+    for (unsigned i = 0; i <= SDF_MAX_EDITS; ++i) many += std::string(i ? "," : "") + R"({"primitive": "sphere", "radius": 1})";
+    std::ofstream(dir / "many.json") << many << "]}]}";
+    const CliRun r = sdfbrick("scene info " + (dir / "many.json").string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("/geometries/0/edits: 65537 edits"), std::string::npos) << r.err;
+    // Bad options are input errors too.
+    EXPECT_EQ(sdfbrick("eval " + scene_path("spheres") + " --size 0").status, 2);
+    EXPECT_EQ(sdfbrick("no-such-verb").status, 2);
+}
+
+}  // namespace
+}  // namespace sdfbrick

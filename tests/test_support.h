@@ -1,0 +1,40 @@
+// Shared helpers of the test suite.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "cl/device.h"
+
+namespace sdfbrick::test {
+
+// Device spec of the tests (see ocl::select_devices); "cpu" (PoCL) when unset.
+inline constexpr const char* kTestDeviceEnv = "SDFBRICK_TEST_DEVICE";
+
+// The process-wide test device: the first device selected by $SDFBRICK_TEST_DEVICE. Throws when no
+// device matches (or none exists), which fails the calling test: tests never skip for lack of a device.
+ocl::Device& device();
+
+// A fresh, empty directory SDFBRICK_TEST_TMP/name (removed first if it exists).
+std::filesystem::path temp_dir(std::string_view name);
+
+// Writes text to path (replacing it), creating parent directories; throws on failure.
+void write_text(const std::filesystem::path& path, std::string_view text);
+
+// Sets (or, with std::nullopt, unsets) an environment variable for the scope's lifetime, then
+// restores the previous state.
+class ScopedEnv {
+public:
+    ScopedEnv(std::string name, const std::optional<std::string>& value);
+    ~ScopedEnv();
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+private:
+    std::string name_;
+    std::optional<std::string> previous_;
+};
+
+}  // namespace sdfbrick::test
