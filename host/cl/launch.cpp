@@ -47,14 +47,16 @@ void set_kernel_arg(cl_kernel kernel, cl_uint index, std::size_t size, const voi
 
 Event enqueue(Device& device, cl_kernel kernel, std::string_view name, std::array<std::size_t, 3> global,
               std::optional<std::array<std::size_t, 3>> local, cl_uint dims) {
+    if (dims < 1 || dims > 3) {
+        throw ClError(CL_INVALID_WORK_DIMENSION, fmt::format("enqueueing kernel {} with {} dimensions on {} "
+                                                             "(OpenCL allows 1 to 3)",
+                                                             name, dims, device.info().name));
+    }
     const auto doing = [&] {
         return fmt::format("enqueueing kernel {} (global {}, local {}) on {}", name, range_text(global, dims),
                            local ? range_text(*local, dims) : std::string("chosen by the driver"),
                            device.info().name);
     };
-    if (dims < 1 || dims > 3) {
-        throw ClError(CL_INVALID_WORK_DIMENSION, doing());
-    }
     cl_event event = nullptr;
     cl_int status = CL_SUCCESS;
     bool empty = false;

@@ -157,50 +157,6 @@ double evaluate(const Scene& s, const glm::dvec3& world) {
     return f;
 }
 
-// ---- random numbers ----
-
-std::uint64_t Rng::next_u64() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-double Rng::uniform() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
-
-double Rng::uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-
-glm::dvec3 Rng::in_box(const glm::dvec3& lo, const glm::dvec3& hi) {
-    const double x = uniform(lo.x, hi.x);
-    const double y = uniform(lo.y, hi.y);
-    const double z = uniform(lo.z, hi.z);
-    return {x, y, z};
-}
-
-glm::dvec3 Rng::unit_vector() {
-    for (;;) {
-        const double x = uniform(-1.0, 1.0);
-        const double y = uniform(-1.0, 1.0);
-        const double z = uniform(-1.0, 1.0);
-        const double l2 = x * x + y * y + z * z;
-        if (l2 > 1e-6 && l2 <= 1.0) return glm::dvec3(x, y, z) / std::sqrt(l2);
-    }
-}
-
-glm::dquat Rng::rotation() {
-    for (;;) {
-        const double w = uniform(-1.0, 1.0);
-        const double x = uniform(-1.0, 1.0);
-        const double y = uniform(-1.0, 1.0);
-        const double z = uniform(-1.0, 1.0);
-        const double l2 = w * w + x * x + y * y + z * z;
-        if (l2 > 1e-6 && l2 <= 1.0) {
-            const double inv = 1.0 / std::sqrt(l2);
-            return glm::dquat(w * inv, x * inv, y * inv, z * inv);
-        }
-    }
-}
-
 // ---- sample points ----
 
 Aabb sampling_box(const Geometry& g) {

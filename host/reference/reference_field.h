@@ -23,6 +23,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/rng.h"
 #include "scene/scene.h"
 
 namespace sdfbrick::reference {
@@ -52,20 +53,6 @@ glm::dvec3 gradient(const Geometry& g, const glm::dvec3& p, double h = 1e-6);
 // The scene's field at a world point.
 double evaluate(const Scene& s, const glm::dvec3& world);
 
-// Deterministic random numbers (SplitMix64): the same seed gives the same sequence on every
-// platform, unlike std:: distributions.
-class Rng {
-public:
-    explicit Rng(std::uint64_t seed) : state_(seed) {}
-    std::uint64_t next_u64();
-    double uniform();                       // [0, 1), 53 bits
-    double uniform(double lo, double hi);   // [lo, hi)
-    glm::dvec3 in_box(const glm::dvec3& lo, const glm::dvec3& hi);
-    glm::dvec3 unit_vector();               // uniform on the sphere
-    glm::dquat rotation();                  // uniform unit quaternion
-private:
-    std::uint64_t state_;
-};
 
 // The box random_points draws from: bounds(g) grown on every side by 10% of its largest extent
 // (empty when bounds(g) is empty, e.g. a geometry of subtract edits only).

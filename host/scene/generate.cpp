@@ -9,23 +9,6 @@
 
 namespace sdfbrick {
 
-std::uint64_t Rng::next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-double Rng::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-double Rng::uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-
-glm::dquat Rng::rotation() {
-    // Shoemake's method: uniform on the unit 3-sphere.
-    const double u1 = uniform(), u2 = uniform() * 2.0 * M_PI, u3 = uniform() * 2.0 * M_PI;
-    const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
-    return glm::dquat(b * std::cos(u3), a * std::sin(u2), a * std::cos(u2), b * std::sin(u3));
-}
-
 namespace {
 
 constexpr std::array<std::string_view, 5> kNames = {"spheres", "drops", "cubes", "rain", "fractal"};

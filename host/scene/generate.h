@@ -7,6 +7,7 @@
 #include <span>
 #include <string_view>
 
+#include "core/rng.h"
 #include "scene/scene.h"
 
 namespace sdfbrick {
@@ -17,16 +18,5 @@ inline constexpr std::uint64_t kDefaultSceneSeed = 1;
 Scene generate_scene(std::string_view name, std::uint64_t seed = kDefaultSceneSeed);
 std::span<const std::string_view> generated_scene_names();
 
-// SplitMix64: small, fast, and the same everywhere (std:: distributions are implementation-defined).
-class Rng {
-public:
-    explicit Rng(std::uint64_t seed) : state_(seed) {}
-    std::uint64_t next();
-    double uniform();                      // [0, 1)
-    double uniform(double lo, double hi);  // [lo, hi)
-    glm::dquat rotation();                 // uniform random unit quaternion
-private:
-    std::uint64_t state_;
-};
 
 }  // namespace sdfbrick
