@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs what sdfbrick needs on Debian 12, skipping what is already there (idempotent).
+# Run as root (or with sudo available). Everything comes from Debian's own packages.
+set -euo pipefail
+
+packages=(
+  cmake g++ make pkg-config
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
+  libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
+  libopenimageio-dev openimageio-tools
+  libgtest-dev libbenchmark-dev
+  python3-matplotlib
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+sudo=()
+[ "$(id -u)" -eq 0 ] || sudo=(sudo)
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
