@@ -43,6 +43,18 @@ Scene finish(std::string name, double time, Geometry g, Camera cam) {
     return s;
 }
 
+// Falls at `speed` and re-enters at the top of [lo, hi).
+Animation falling(double speed, double lo, double hi) {
+    Animation a;
+    a.velocity = r4(glm::dvec3(0.0, -speed, 0.0));
+    a.wrap_y = std::array<double, 2>{lo, hi};
+    return a;
+}
+
+// Every draw is its own statement or inside a braced list (both evaluated in order): function
+// arguments are evaluated in an unspecified order, which would make the scenes compiler-dependent.
+glm::dvec3 jitter(Rng& rng, double r) { return rng.in_box(glm::dvec3(-r), glm::dvec3(r)); }
+
 Camera orbit(glm::dvec3 target, double distance, double yaw, double pitch) {
     Camera c;
     c.kind = Camera::Kind::Orbit;
@@ -68,13 +80,10 @@ Scene drops(Rng& rng) {
     Geometry g;
     const double lo = -3.0, hi = 3.0;
     for (int i = 0; i < 1024; ++i) {
-        const glm::dvec3 pos(rng.uniform(-3.2, 3.2), rng.uniform(lo, hi), rng.uniform(-3.2, 3.2));
+        const glm::dvec3 pos = rng.in_box({-3.2, lo, -3.2}, {3.2, hi, 3.2});
         Edit e = make_edit(Primitive::Sphere, {rng.uniform(0.12, 0.34), 0, 0, 0}, pos);
         e.blend = r4(rng.uniform(0.15, 0.3));
-        Animation a;
-        a.velocity = r4(glm::dvec3(0.0, -rng.uniform(0.3, 0.9), 0.0));
-        a.wrap_y = std::array<double, 2>{lo, hi};
-        e.animation = a;
+        e.animation = falling(rng.uniform(0.3, 0.9), lo, hi);
         g.edits.push_back(e);
     }
     return finish("drops", 5.0, g, orbit({0.0, 0.0, 0.0}, 14.0, 30.0, 20.0));
@@ -87,8 +96,7 @@ Scene cubes(Rng& rng) {
     for (int z = 0; z < 6; ++z)
         for (int y = 0; y < 6; ++y)
             for (int x = 0; x < 6; ++x) {
-                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 2.5) * spacing +
-                                       glm::dvec3(rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2), rng.uniform(-0.2, 0.2));
+                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 2.5) * spacing + jitter(rng, 0.2);
                 const int kind = (x + y + z) % 3;
                 Edit e;
                 if (kind == 0) {  // plate
@@ -117,16 +125,17 @@ Scene rain(Rng& rng) {
                                               {{-1.5, 0.0, 2.3}, 2.4, 52}}};
     for (const Cluster& c : clusters)
         for (int i = 0; i < c.count; ++i) {
-            const glm::dvec3 pos(c.centre.x + rng.uniform(-c.spread, c.spread), rng.uniform(lo, hi),
-                                 c.centre.z + rng.uniform(-c.spread, c.spread));
+            const glm::dvec3 pos = rng.in_box({c.centre.x - c.spread, lo, c.centre.z - c.spread},
+                                              {c.centre.x + c.spread, hi, c.centre.z + c.spread});
             const double size = std::pow(rng.uniform(), 2.0);  // many small, few large
             const double pick = rng.uniform();
             Edit e;
             if (pick < 0.6) {
                 e = make_edit(Primitive::Capsule, {0.18 + 0.8 * size, 0.08 + 0.2 * size, 0, 0}, pos);
-                const glm::dquat tilt = glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(1.0, 0.0, 0.0)) *
-                                        glm::angleAxis(rng.uniform(-0.25, 0.25), glm::dvec3(0.0, 0.0, 1.0));
-                e.transform.rotation = unit(tilt);
+                const double tilt_x = rng.uniform(-0.25, 0.25);
+                const double tilt_z = rng.uniform(-0.25, 0.25);
+                e.transform.rotation = unit(glm::angleAxis(tilt_x, glm::dvec3(1.0, 0.0, 0.0)) *
+                                            glm::angleAxis(tilt_z, glm::dvec3(0.0, 0.0, 1.0)));
             } else if (pick < 0.85) {
                 e = make_edit(Primitive::Sphere, {0.14 + 0.45 * size, 0, 0, 0}, pos);
             } else {
@@ -134,10 +143,7 @@ Scene rain(Rng& rng) {
                 e = make_edit(Primitive::Ellipsoid, {r, r * rng.uniform(1.2, 2.0), r, 0}, pos);
             }
             if (rng.uniform() < 0.3) e.blend = r4(rng.uniform(0.05, 0.2));
-            Animation a;
-            a.velocity = r4(glm::dvec3(0.0, -rng.uniform(1.5, 3.0), 0.0));
-            a.wrap_y = std::array<double, 2>{lo, hi};
-            e.animation = a;
+            e.animation = falling(rng.uniform(1.5, 3.0), lo, hi);
             g.edits.push_back(e);
         }
     return finish("rain", 5.0, g, orbit({0.0, 0.0, 0.0}, 15.0, 25.0, 15.0));
@@ -150,8 +156,7 @@ Scene fractal(Rng& rng) {
     for (int z = 0; z < 4; ++z)
         for (int y = 0; y < 4; ++y)
             for (int x = 0; x < 4; ++x) {
-                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 1.5) * spacing +
-                                       glm::dvec3(rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15));
+                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 1.5) * spacing + jitter(rng, 0.15);
                 Edit e = make_edit(Primitive::Menger, {rng.uniform(0.42, 0.56), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
                 e.transform.rotation = unit(rng.rotation());
                 g.edits.push_back(e);
