@@ -114,7 +114,9 @@ TEST(Cli, BadInputIsRefusedCleanly) {
         EXPECT_EQ(r.status, 2) << c.what << ": " << r.err;
         EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.what << ": stderr was: " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.what << ": not one line: " << r.err;
-        if (c.extra_args.empty()) EXPECT_NE(r.err.find(scene.string()), std::string::npos) << c.what << ": file not named: " << r.err;
+        if (c.extra_args.empty()) {
+            EXPECT_NE(r.err.find(scene.string()), std::string::npos) << c.what << ": file not named: " << r.err;
+        }
         EXPECT_FALSE(fs::exists(img)) << c.what << ": left a picture behind";
         EXPECT_FALSE(fs::exists(report)) << c.what << ": left a report behind";
         for (const auto& entry : fs::directory_iterator(dir))

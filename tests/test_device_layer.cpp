@@ -421,7 +421,7 @@ TEST(Programs, RebuildHitsMemoryThenDiskCache) {
     const ScopedEnv cache(kCacheDirEnv, (dir / "cache").string());
     ASSERT_EQ(program_cache_dir(), dir / "cache");
 
-    DeviceSet first = DeviceSet::open("cpu");
+    DeviceSet first = test::open_test_devices();
     const Program compiled = build_program(first[0], "probe.cl");
     EXPECT_EQ(compiled.record().origin, ProgramOrigin::compiled);
     EXPECT_FALSE(compiled.record().from_cache());
@@ -443,7 +443,7 @@ TEST(Programs, RebuildHitsMemoryThenDiskCache) {
     EXPECT_EQ(again.get(), compiled.get());
     EXPECT_EQ(again.record().key, compiled.record().key);
 
-    DeviceSet second = DeviceSet::open("cpu");
+    DeviceSet second = test::open_test_devices();
     const Program cached = build_program(second[0], "probe.cl");
     EXPECT_EQ(cached.record().origin, ProgramOrigin::disk_cache);
     EXPECT_TRUE(cached.record().from_cache());
@@ -466,7 +466,7 @@ TEST(Programs, DamagedCacheEntriesFallBackToSource) {
     std::filesystem::path file;
     std::string key;
     {
-        DeviceSet set = DeviceSet::open("cpu");
+        DeviceSet set = test::open_test_devices();
         const Program program = build_program(set[0], "probe.cl");
         ASSERT_TRUE(program.record().cache_file.has_value());
         file = *program.record().cache_file;
@@ -479,7 +479,7 @@ TEST(Programs, DamagedCacheEntriesFallBackToSource) {
     };
     for (const std::string& bytes : damaged) {
         test::write_text(file, bytes);
-        DeviceSet set = DeviceSet::open("cpu");
+        DeviceSet set = test::open_test_devices();
         const Program program = build_program(set[0], "probe.cl");
         EXPECT_EQ(program.record().origin, ProgramOrigin::compiled);
         EXPECT_NE(program.record().cache_note.find("discarded cache entry"), std::string::npos)
@@ -500,7 +500,7 @@ TEST(Programs, DiskCacheCanBeSwitchedOff) {
     const ScopedKernelDir kernels(dir);
     const ScopedEnv cache(kCacheDirEnv, "off");
     EXPECT_FALSE(program_cache_dir().has_value());
-    DeviceSet set = DeviceSet::open("cpu");
+    DeviceSet set = test::open_test_devices();
     const Program program = build_program(set[0], "probe.cl");
     EXPECT_EQ(program.record().origin, ProgramOrigin::compiled);
     EXPECT_FALSE(program.record().cache_file.has_value());
@@ -564,6 +564,19 @@ TEST(Programs, SyntaxErrorReportsFileLineAndLog) {
         EXPECT_NE(message.find(device.info().name), std::string::npos) << message;
         EXPECT_NE(message.find("build log"), std::string::npos) << message;
     }
+}
+
+TEST(Programs, LogLocationsInTheAssembledSourceAreMappedToFiles) {
+    const std::string assembled = "#pragma OPENCL FP_CONTRACT OFF\n"  // 1
+                                  "#line 1 \"a.cl\"\n"                // 2
+                                  "#line 1 \"b.h\"\n"                 // 3
+                                  "int b;\n"                          // 4: b.h:1
+                                  "#line 2 \"a.cl\"\n"                // 5
+                                  "int x = y;\n";                     // 6: a.cl:2
+    EXPECT_EQ(map_log_locations("<kernel>:6:9: error: use of undeclared identifier 'y'\n<kernel>:4:1: note", assembled),
+              "a.cl:2:9: error: use of undeclared identifier 'y'\nb.h:1:1: note");
+    EXPECT_EQ(map_log_locations("<kernel>:1:1: warning\n<kernel>:99:1: x\nbad.cl:3:1: y", assembled),
+              "<kernel>:1:1: warning\n<kernel>:99:1: x\nbad.cl:3:1: y");  // unknown lines stay as they are
 }
 
 TEST(Programs, UnsafeOptionsAreRefused) {

@@ -17,11 +17,13 @@ void set_env(const std::string& name, const std::optional<std::string>& value) {
 
 }  // namespace
 
+ocl::DeviceSet open_test_devices() {
+    const char* spec = std::getenv(kTestDeviceEnv);
+    return ocl::DeviceSet::open(spec != nullptr && *spec != '\0' ? spec : "cpu");
+}
+
 ocl::Device& device() {
-    static ocl::DeviceSet devices = [] {
-        const char* spec = std::getenv(kTestDeviceEnv);
-        return ocl::DeviceSet::open(spec != nullptr && *spec != '\0' ? spec : "cpu");
-    }();
+    static ocl::DeviceSet devices = open_test_devices();
     return devices[0];
 }
 

@@ -13,9 +13,12 @@ namespace sdfbrick::test {
 // Device spec of the tests (see ocl::select_devices); "cpu" (PoCL) when unset.
 inline constexpr const char* kTestDeviceEnv = "SDFBRICK_TEST_DEVICE";
 
-// The process-wide test device: the first device selected by $SDFBRICK_TEST_DEVICE. Throws when no
+// The process-wide test device: the first device of open_test_devices(). Throws when no
 // device matches (or none exists), which fails the calling test: tests never skip for lack of a device.
 ocl::Device& device();
+
+// A newly opened set of the devices that $SDFBRICK_TEST_DEVICE selects (nothing cached in memory yet).
+ocl::DeviceSet open_test_devices();
 
 // A fresh, empty directory SDFBRICK_TEST_TMP/name (removed first if it exists).
 std::filesystem::path temp_dir(std::string_view name);

@@ -1,6 +1,7 @@
 // Typed device buffers. Buffer<T> owns a cl_mem of count elements of T on one Device; reads and
 // writes are blocking and go through the device's queue. A zero-element buffer is valid (OpenCL
-// forbids zero-byte allocations, so one element is allocated and size() stays 0).
+// forbids zero-byte allocations, so one element is allocated and size() stays 0). A buffer larger
+// than the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE is refused (CL_INVALID_BUFFER_SIZE) on every device.
 #pragma once
 
 #include <CL/cl.h>
@@ -33,13 +34,18 @@ public:
                                                 count, sizeof(T)));
         }
         const std::size_t allocated = count == 0 ? sizeof(T) : count * sizeof(T);
-        cl_int status = CL_SUCCESS;
-        memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));
+        const DeviceInfo& info = device.info();
+        // The limit is enforced here for every device: some drivers (NVIDIA's) accept larger buffers
+        // where others refuse them, and a run must not depend on which device it met first.
+        cl_int status = allocated > info.max_alloc_bytes ? CL_INVALID_BUFFER_SIZE : CL_SUCCESS;
+        if (status == CL_SUCCESS) {
+            memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));
+        }
         if (status != CL_SUCCESS) {
             throw ClError(status, fmt::format("allocating a buffer of {} bytes ({} elements of {} bytes) on {} "
                                               "(largest allocation {} bytes, global memory {} bytes)",
-                                              allocated, count, sizeof(T), device.info().name,
-                                              device.info().max_alloc_bytes, device.info().global_mem_bytes));
+                                              allocated, count, sizeof(T), info.name, info.max_alloc_bytes,
+                                              info.global_mem_bytes));
         }
     }
 

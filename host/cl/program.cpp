@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -112,7 +113,7 @@ ProgramHandle compile_from_source(const Device& device, const std::string& sourc
                               record.device_name));
     const cl_device_id id = device.id();
     status = clBuildProgram(program.get(), 1, &id, record.options.c_str(), nullptr, nullptr);
-    record.log = build_log(program.get(), id);
+    record.log = map_log_locations(build_log(program.get(), id), source);
     if (status != CL_SUCCESS) {
         throw ClError(status, building(record),
                       record.log.empty() ? "the compiler gave no build log" : "build log:\n" + record.log);
@@ -211,6 +212,39 @@ void store_on_disk(cl_program program, const std::filesystem::path& file, BuildR
 }
 
 }  // namespace
+
+std::string map_log_locations(std::string_view log, std::string_view assembled_source) {
+    static const std::regex directive(R"re(^#line (\d{1,9}) "([^"]*)"\r?$)re");
+    static const std::regex location(R"re(<[A-Za-z_]+>:(\d{1,9}))re");
+    std::vector<std::string> places(1);  // places[n]: "file:line" of assembled line n (1-based), "" if unknown
+    std::string file;
+    std::size_t next_line = 0;
+    std::istringstream lines{std::string(assembled_source)};
+    for (std::string line; std::getline(lines, line);) {
+        std::smatch match;
+        if (std::regex_match(line, match, directive)) {
+            places.emplace_back();
+            file = match[2].str();
+            next_line = std::stoul(match[1].str());
+            continue;
+        }
+        places.push_back(file.empty() ? std::string() : fmt::format("{}:{}", file, next_line));
+        ++next_line;
+    }
+    const std::string text(log);
+    std::string mapped;
+    auto copied_to = text.cbegin();
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), location); it != std::sregex_iterator(); ++it) {
+        const std::size_t n = std::stoul((*it)[1].str());
+        if (n < places.size() && !places[n].empty()) {
+            mapped.append(copied_to, (*it)[0].first);
+            mapped += places[n];
+            copied_to = (*it)[0].second;
+        }
+    }
+    mapped.append(copied_to, text.cend());
+    return mapped;
+}
 
 std::string_view to_string(ProgramOrigin origin) {
     switch (origin) {

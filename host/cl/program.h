@@ -68,6 +68,11 @@ Program build_program(Device& device, std::string_view kernel_file, std::string_
 // Throws ClError naming the kernel (and the kernels the program does define) on failure.
 Kernel make_kernel(const Program& program, const char* name);
 
+// Rewrites locations that a compiler reports in the assembled source, ignoring its #line directives
+// (NVIDIA: "<kernel>:7:23: error"), to the kernel file and line: "bad.cl:3:23: error". build_program
+// applies it to every build log.
+std::string map_log_locations(std::string_view log, std::string_view assembled_source);
+
 // Disk cache entries: a short text header (format, key, sizes, checksum) then the build log and the
 // binary. Exposed for tests.
 struct CacheEntry {
