@@ -75,9 +75,12 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
             slice.device_ms, slice.queue_ms, points / seconds, static_cast<double>(slice.edit_evaluations) / seconds,
             to_string(build.origin), build.build_ms,
             build.correctly_rounded_divide_sqrt ? ", correctly rounded div/sqrt" : ", div/sqrt NOT correctly rounded");
-        summary += fmt::format("  vs host reference (double) on {} points: max |error| {:.3g}, mean {:.3g}, "
-                               "inside/outside disagreements {}; digest {}\n",
-                               check.samples, check.max_abs_error, check.mean_abs_error, check.sign_mismatches, digest);
+        if (check.samples == 0)
+            summary += fmt::format("  not compared with the host reference (--check 0); digest {}\n", digest);
+        else
+            summary += fmt::format("  vs host reference (double) on {} points: max |error| {:.3g}, mean {:.3g}, "
+                                   "inside/outside disagreements {}; digest {}\n",
+                                   check.samples, check.max_abs_error, check.mean_abs_error, check.sign_mismatches, digest);
         report_devices.push_back({{"device", device.info().to_json()},
                                   {"program", {{"origin", to_string(build.origin)}, {"build_ms", build.build_ms},
                                                {"options", build.options},

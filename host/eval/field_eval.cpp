@@ -22,6 +22,11 @@ FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::sp
     if (xyz.size() % 3 != 0) throw std::invalid_argument("FieldEvaluator::evaluate: points must be x, y, z triples");
     const std::size_t n = xyz.size() / 3;
     if (n > std::numeric_limits<std::uint32_t>::max()) throw InputError(fmt::format("{} points is more than one batch can hold", n));
+    const std::uint64_t point_bytes = xyz.size() * sizeof(float);
+    if (point_bytes > device_.info().max_alloc_bytes)
+        throw InputError(fmt::format("{} points need {} bytes in one buffer; {} allocates at most {} bytes at once: "
+                                     "evaluate fewer points (a smaller --size)",
+                                     n, point_bytes, device_.info().name, device_.info().max_alloc_bytes));
     FieldEvalResult result;
     result.values.resize(n);
     if (n == 0) return result;
