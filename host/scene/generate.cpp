@@ -55,6 +55,18 @@ Animation falling(double speed, double lo, double hi) {
 // arguments are evaluated in an unspecified order, which would make the scenes compiler-dependent.
 glm::dvec3 jitter(Rng& rng, double r) { return rng.in_box(glm::dvec3(-r), glm::dvec3(r)); }
 
+// Calls f(cell, centre) for the n^3 cells of a lattice centred on the origin, x fastest; each
+// centre is moved by up to `r` on each axis.
+template <class F>
+void for_lattice(Rng& rng, int n, double spacing, double r, F&& f) {
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const glm::ivec3 cell(x, y, z);
+                f(cell, (glm::dvec3(cell) - 0.5 * (n - 1)) * spacing + jitter(rng, r));
+            }
+}
+
 Camera orbit(glm::dvec3 target, double distance, double yaw, double pitch) {
     Camera c;
     c.kind = Camera::Kind::Orbit;
@@ -92,24 +104,23 @@ Scene drops(Rng& rng) {
 // 216 edits on a 6^3 lattice: thin plates, beams and hollow cubes, mostly empty space between.
 Scene cubes(Rng& rng) {
     Geometry g;
-    const double spacing = 1.6;
-    for (int z = 0; z < 6; ++z)
-        for (int y = 0; y < 6; ++y)
-            for (int x = 0; x < 6; ++x) {
-                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 2.5) * spacing + jitter(rng, 0.2);
-                const int kind = (x + y + z) % 3;
-                Edit e;
-                if (kind == 0) {  // plate
-                    e = make_edit(Primitive::Box, {rng.uniform(0.45, 0.7), 0.04, rng.uniform(0.45, 0.7), 0}, pos);
-                } else if (kind == 1) {  // beam
-                    e = make_edit(Primitive::Box, {0.05, rng.uniform(0.5, 0.75), 0.05, 0}, pos);
-                } else {  // rounded cube
-                    const double s = rng.uniform(0.3, 0.5);
-                    e = make_edit(Primitive::RoundBox, {s, s, s, 0.05}, pos);
-                }
-                e.transform.rotation = unit(rng.rotation());
-                g.edits.push_back(e);
+    for_lattice(rng, 6, 1.6, 0.2, [&](const glm::ivec3& cell, const glm::dvec3& pos) {
+        Edit e;
+        switch ((cell.x + cell.y + cell.z) % 3) {
+            case 0:  // plate
+                e = make_edit(Primitive::Box, {rng.uniform(0.45, 0.7), 0.04, rng.uniform(0.45, 0.7), 0}, pos);
+                break;
+            case 1:  // beam
+                e = make_edit(Primitive::Box, {0.05, rng.uniform(0.5, 0.75), 0.05, 0}, pos);
+                break;
+            default: {  // rounded cube
+                const double s = rng.uniform(0.3, 0.5);
+                e = make_edit(Primitive::RoundBox, {s, s, s, 0.05}, pos);
             }
+        }
+        e.transform.rotation = unit(rng.rotation());
+        g.edits.push_back(e);
+    });
     return finish("cubes", 0.0, g, orbit({0.0, 0.0, 0.0}, 16.0, 35.0, 25.0));
 }
 
@@ -152,15 +163,11 @@ Scene rain(Rng& rng) {
 // 64 Menger sponges (3 or 4 iterations): few edits, each expensive, with fine structure.
 Scene fractal(Rng& rng) {
     Geometry g;
-    const double spacing = 1.5;
-    for (int z = 0; z < 4; ++z)
-        for (int y = 0; y < 4; ++y)
-            for (int x = 0; x < 4; ++x) {
-                const glm::dvec3 pos = (glm::dvec3(x, y, z) - 1.5) * spacing + jitter(rng, 0.15);
-                Edit e = make_edit(Primitive::Menger, {rng.uniform(0.42, 0.56), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
-                e.transform.rotation = unit(rng.rotation());
-                g.edits.push_back(e);
-            }
+    for_lattice(rng, 4, 1.5, 0.15, [&](const glm::ivec3&, const glm::dvec3& pos) {
+        Edit e = make_edit(Primitive::Menger, {rng.uniform(0.42, 0.56), rng.uniform() < 0.5 ? 3.0 : 4.0, 0, 0}, pos);
+        e.transform.rotation = unit(rng.rotation());
+        g.edits.push_back(e);
+    });
     return finish("fractal", 0.0, g, orbit({0.0, 0.0, 0.0}, 10.0, 30.0, 25.0));
 }
 
