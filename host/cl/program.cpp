@@ -19,6 +19,7 @@
 
 #include "cl/device.h"
 #include "cl/kernel_source.h"
+#include "core/hash.h"
 
 namespace sdfbrick::ocl {
 
@@ -36,35 +37,8 @@ constexpr std::array<std::string_view, 7> kRefusedOptions = {
     "-cl-no-signed-zeros",   "-cl-denorms-are-zero", "-cl-single-precision-constant",
 };
 
-class Fnv1a64 {
-public:
-    // Each part is hashed with its length first, so that part boundaries are unambiguous.
-    void add(std::string_view part) {
-        std::uint64_t length = part.size();
-        for (int i = 0; i < 8; ++i) {
-            byte(static_cast<unsigned char>(length & 0xffU));
-            length >>= 8U;
-        }
-        for (char c : part) {
-            byte(static_cast<unsigned char>(c));
-        }
-    }
-    std::string hex() const { return fmt::format("{:016x}", hash_); }
-
-private:
-    void byte(unsigned char b) {
-        hash_ ^= b;
-        hash_ *= 0x100000001b3ULL;
-    }
-
-    std::uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
-
 std::string checksum(std::string_view log, std::string_view binary) {
-    Fnv1a64 hash;
-    hash.add(log);
-    hash.add(binary);
-    return hash.hex();
+    return Fnv1a64().add_part(log).add_part(binary).hex();
 }
 
 void refuse_unsafe_options(std::string_view extra_options) {
@@ -299,7 +273,7 @@ Program build_program(Device& device, std::string_view kernel_file, std::string_
                                   std::string_view(info.platform_version), std::string_view(info.name),
                                   std::string_view(info.driver_version), std::string_view(info.device_version),
                                   std::string_view(source), std::string_view(record.options)}) {
-        key.add(part);
+        key.add_part(part);
     }
     record.key = key.hex();
 

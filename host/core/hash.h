@@ -18,6 +18,11 @@ public:
         return *this;
     }
     Fnv1a64& add(std::string_view s) { return add(std::as_bytes(std::span(s.data(), s.size()))); }
+    // One part of a multi-part key: its length first, so that part boundaries are unambiguous.
+    Fnv1a64& add_part(std::string_view s) {
+        const std::uint64_t length = s.size();
+        return add(std::as_bytes(std::span(&length, 1))).add(s);
+    }
     template <class T>
     Fnv1a64& add_values(std::span<const T> values) { return add(std::as_bytes(values)); }
     std::uint64_t value() const { return state_; }

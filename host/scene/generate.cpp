@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/hash.h"
 
 namespace sdfbrick {
 
@@ -177,9 +178,7 @@ std::span<const std::string_view> generated_scene_names() { return kNames; }
 
 Scene generate_scene(std::string_view name, std::uint64_t seed) {
     // Each scene gets its own stream, so adding a scene never changes the others.
-    std::uint64_t stream = 0xCBF29CE484222325ull;  // FNV-1a of the name
-    for (char c : name) stream = (stream ^ static_cast<unsigned char>(c)) * 0x100000001B3ull;
-    Rng rng(seed ^ stream);
+    Rng rng(seed ^ Fnv1a64().add(name).value());
     if (name == "spheres") return spheres(rng);
     if (name == "drops") return drops(rng);
     if (name == "cubes") return cubes(rng);
