@@ -82,8 +82,9 @@ TEST(SceneJson, GeneratedScenesAreDeterministicAndRoundTrip) {
     for (auto name : generated_scene_names()) {
         const Scene a = generate_scene(name, 7);
         EXPECT_EQ(format_scene(a), format_scene(generate_scene(name, 7))) << name;
-        if (name != "spheres")  // the fidelity scene is fixed; the others are drawn from the seed
+        if (name != "spheres") {  // the fidelity scene is fixed; the others are drawn from the seed
             EXPECT_NE(format_scene(a), format_scene(generate_scene(name, 8))) << name;
+        }
         EXPECT_EQ(format_scene(parse_scene(format_scene(a), "x")), format_scene(a)) << name;
     }
 }

@@ -56,14 +56,6 @@ std::optional<Op> op_from_string(std::string_view s) {
     return std::nullopt;
 }
 
-Transform Transform::compose(const Transform& child) const {
-    Transform t;
-    t.rotation = rotation * child.rotation;
-    t.scale = scale * child.scale;
-    t.translation = apply(child.translation);
-    return t;
-}
-
 Aabb Transform::apply(const Aabb& local) const {
     if (local.empty()) return local;
     // Centre moves with the transform; half extents through |R| (the rotation matrix's absolute values).

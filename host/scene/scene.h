@@ -60,8 +60,6 @@ struct Transform {
     glm::dvec3 inverse_apply(const glm::dvec3& parent) const {
         return (glm::conjugate(rotation) * (parent - translation)) / scale;
     }
-    // this * child: first child, then this.
-    Transform compose(const Transform& child) const;
     // AABB (in the parent frame) of a box given in the local frame.
     Aabb apply(const Aabb& local) const;
 };

@@ -308,8 +308,6 @@ std::string line_column(std::string_view text, std::size_t byte) {
     return fmt::format("line {}, column {}", line, col);
 }
 
-}  // namespace
-
 Scene scene_from_json(const json& j, std::string_view origin) {
     const Node root(j, "", origin);
     root.expect_object({"version", "name", "time", "geometries", "objects", "camera", "light"});
@@ -354,7 +352,6 @@ Scene scene_from_json(const json& j, std::string_view origin) {
     return s;
 }
 
-namespace {
 
 // SAX pass that follows the JSON path while parsing, so that a syntax error or a number that
 // overflows a double is reported with the place it occurred, as well as the line and column.

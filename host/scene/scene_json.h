@@ -19,7 +19,6 @@ inline constexpr int kSceneFormatVersion = 1;
 Scene load_scene(const std::filesystem::path& path);
 // `origin` names the source in error messages (a file name, or "<string>").
 Scene parse_scene(std::string_view text, std::string_view origin);
-Scene scene_from_json(const nlohmann::json& j, std::string_view origin);
 
 nlohmann::json scene_to_json(const Scene& s);
 // Readable text: one edit per line, short arrays inline.
