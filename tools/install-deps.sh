@@ -5,11 +5,10 @@ set -euo pipefail
 
 packages=(
   cmake g++ make pkg-config
-  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-headers
   libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-  libopenimageio-dev openimageio-tools
+  libopenimageio-dev
   libgtest-dev libbenchmark-dev
-  python3-matplotlib
 )
 
 missing=()
