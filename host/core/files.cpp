@@ -6,6 +6,8 @@
 #include <sstream>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include "core/errors.h"
 
 namespace sdfbrick {
@@ -21,8 +23,7 @@ std::string read_file(const std::filesystem::path& path) {
 
 void write_via_temp(const std::filesystem::path& path, const std::function<void(const std::filesystem::path&)>& write) {
     std::filesystem::path tmp = path;
-    tmp.replace_filename("." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) +
-                         path.extension().string());
+    tmp.replace_filename(fmt::format(".{}.tmp-{}{}", path.stem().string(), ::getpid(), path.extension().string()));
     try {
         write(tmp);
         std::error_code ec;
