@@ -53,12 +53,14 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     std::optional<Slice> first;
     std::string first_digest;
     bool all_agree = true;
+    std::optional<ReferenceSamples> reference;
     std::string summary = fmt::format("scene {} ({}), t = {} s, {} objects, {} edits\n", scene.name, o.file, t,
                                       scene.objects.size(), edits);
     for (ocl::Device& device : devices) {
         FieldEvaluator evaluator(device);
         Slice slice = evaluate_slice(evaluator, scene, spec);
-        const ReferenceCheck check = check_against_reference(slice, scene, o.check);
+        if (!reference) reference = reference_samples(slice, scene, o.check);
+        const ReferenceCheck check = check_against_reference(slice, *reference);
         const std::string digest = Fnv1a64().add_values(std::span<const float>(slice.values)).hex();
         const double points = static_cast<double>(slice.values.size());
         const double seconds = slice.device_ms * 1e-3;

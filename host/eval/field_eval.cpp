@@ -122,24 +122,34 @@ Image slice_image(const Slice& s) {
     return img;
 }
 
-ReferenceCheck check_against_reference(const Slice& s, const Scene& scene, std::size_t max_samples) {
-    ReferenceCheck r;
+ReferenceSamples reference_samples(const Slice& s, const Scene& scene, std::size_t max_samples) {
+    ReferenceSamples r;
     const std::size_t count = s.values.size();
     if (count == 0 || max_samples == 0) return r;
     const std::size_t stride = std::max<std::size_t>(1, count / max_samples);
     const auto start = std::chrono::steady_clock::now();
-    double sum = 0.0;
     for (std::size_t i = 0; i < count; i += stride) {
         const int x = static_cast<int>(i % s.width), y = static_cast<int>(i / s.width);
-        const double ref = reference::evaluate(scene, s.point(x, y));
-        const double err = std::abs(static_cast<double>(s.values[i]) - ref);
+        r.pixels.push_back(i);
+        r.values.push_back(reference::evaluate(scene, s.point(x, y)));
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+ReferenceCheck check_against_reference(const Slice& s, const ReferenceSamples& reference) {
+    ReferenceCheck r;
+    double sum = 0.0;
+    for (std::size_t k = 0; k < reference.pixels.size(); ++k) {
+        const float v = s.values.at(reference.pixels[k]);
+        const double ref = reference.values[k];
+        const double err = std::abs(static_cast<double>(v) - ref);
         r.max_abs_error = std::max(r.max_abs_error, err);
         sum += err;
-        r.sign_mismatches += (s.values[i] < 0.0f) != (ref < 0.0);
+        r.sign_mismatches += (v < 0.0f) != (ref < 0.0);
         ++r.samples;
     }
-    r.mean_abs_error = sum / static_cast<double>(r.samples);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (r.samples > 0) r.mean_abs_error = sum / static_cast<double>(r.samples);
     return r;
 }
 

@@ -68,15 +68,22 @@ Slice evaluate_slice(FieldEvaluator& evaluator, const Scene& scene, const SliceS
 // units (default: 1/20 of the slice width), a white line on the surface.
 Image slice_image(const Slice& slice);
 
-// Kernel against the double-precision host reference on up to `max_samples` pixels spread evenly
-// over the slice.
+// The double-precision host reference at up to `max_samples` pixels spread evenly over a slice.
+// It depends only on the slice's geometry, so one set serves every device's slice.
+struct ReferenceSamples {
+    std::vector<std::size_t> pixels;  // indices into Slice::values
+    std::vector<double> values;
+    double seconds = 0.0;  // host time taken
+};
+ReferenceSamples reference_samples(const Slice& slice, const Scene& scene, std::size_t max_samples);
+
+// A slice from the kernel against the reference samples.
 struct ReferenceCheck {
     std::size_t samples = 0;
     double max_abs_error = 0.0;
     double mean_abs_error = 0.0;
     std::size_t sign_mismatches = 0;  // pixels where the kernel and the reference disagree on inside/outside
-    double seconds = 0.0;             // host time of the reference evaluation
 };
-ReferenceCheck check_against_reference(const Slice& slice, const Scene& scene, std::size_t max_samples);
+ReferenceCheck check_against_reference(const Slice& slice, const ReferenceSamples& reference);
 
 }  // namespace sdfbrick
