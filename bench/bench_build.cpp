@@ -1,0 +1,74 @@
+// Sparse brick construction (host/build/brick_builder.h): the five shipped scenes x leaf brick sizes
+// 0.5, 0.25, 0.125, 0.0625 x culling on/off. Manual time = the device time of the whole
+// construction (every stage's kernels, from OpenCL profiling events). Counters: leaf bricks,
+// bricks/s, edit evaluations/s, edits per leaf brick (mean), and each stage's share in ms.
+// Device: $SDFBRICK_DEVICE (default: first GPU, else device 0). Culling off at small bricks is slow
+// on a CPU: pick with --benchmark_filter, e.g.
+//   SDFBRICK_DEVICE=cpu build/release/bench/bench_build --benchmark_filter='build/drops/0.125/cull'
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include "build/brick_builder.h"
+#include "scene/scene_json.h"
+
+namespace sdfbrick {
+namespace {
+
+ocl::DeviceSet& devices() {
+    static ocl::DeviceSet set = ocl::DeviceSet::open("");
+    return set;
+}
+
+build::BrickBuilder& builder() {
+    static build::BrickBuilder b(devices()[0]);
+    return b;
+}
+
+void bench_build(benchmark::State& state, const std::string& scene_name, double leaf, bool cull) {
+    const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + scene_name + ".json");
+    const Geometry g = geometry_at(s.geometries[0], s.time);
+    build::BuildSettings settings;
+    settings.leaf_size = leaf;
+    settings.cull = cull;
+    build::GeometryBuild last;
+    std::map<std::string, double> stage_ms;
+    for (auto _ : state) {
+        last = builder().build(g, settings);
+        state.SetIterationTime(last.device_ms * 1e-3);
+        for (const build::Launch& l : last.launches) stage_ms[l.stage] += l.device_ms;
+    }
+    const auto iterations = static_cast<double>(state.iterations());
+    state.counters["bricks"] = static_cast<double>(last.leaf_count);
+    state.counters["bricks/s"] = benchmark::Counter(static_cast<double>(last.leaf_count), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["edit_evals/s"] =
+        benchmark::Counter(static_cast<double>(last.edit_evaluations), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["edits/leaf"] = last.edits_per_leaf_mean;
+    for (const auto& [stage, ms] : stage_ms) state.counters[stage + "_ms"] = ms / iterations;
+    state.SetLabel(devices()[0].info().name);
+}
+
+}  // namespace
+}  // namespace sdfbrick
+
+int main(int argc, char** argv) {
+    using namespace sdfbrick;
+    benchmark::Initialize(&argc, argv);
+    const ocl::DeviceInfo& info = devices()[0].info();
+    benchmark::AddCustomContext("device", info.name);
+    benchmark::AddCustomContext("device_vendor", info.vendor);
+    benchmark::AddCustomContext("driver", info.driver_version);
+    benchmark::AddCustomContext("platform", info.platform_name + " " + info.platform_version);
+    for (const char* name : {"spheres", "drops", "cubes", "rain", "fractal"})
+        for (double leaf : {0.5, 0.25, 0.125, 0.0625})
+            for (bool cull : {true, false})
+                benchmark::RegisterBenchmark(fmt::format("build/{}/{}/{}", name, leaf, cull ? "cull" : "nocull").c_str(),
+                                             bench_build, std::string(name), leaf, cull)
+                    ->UseManualTime()
+                    ->Unit(benchmark::kMillisecond);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

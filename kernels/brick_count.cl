@@ -1,0 +1,45 @@
+/* brick_count.cl: stage "count". One work-group per parent brick, one work-item per candidate child
+ * (local size B^3). Each child's centre is tested against the band-limited field of the parent's edit
+ * list: kept iff |F_C(centre)| <= threshold (half the child's diagonal plus a rounding margin). The
+ * parent's edits are staged through __local memory in chunks of chunk_size. Writes the parent's child
+ * mask (bit = Morton index) and its child count. */
+#include "sdf_build.h"
+
+__kernel void brick_count(__global const SdfEdit* edits, __global const uint* edit_indices,
+                          __global SdfBrick* parents, uint log2b,
+                          float origin_x, float origin_y, float origin_z, float child_cell,
+                          float threshold, float clamp_c,
+                          __global uint* child_counts,
+                          __local SdfEdit* chunk, uint chunk_size, __local uint* kept) {
+    const uint parent = get_group_id(0);
+    const uint lid = get_local_id(0), wg = get_local_size(0);
+    const SdfBrick b = parents[parent];
+    const uint b_axis = 1u << log2b;
+    const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)b_axis + sdf_morton_child(lid, log2b);
+    const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
+    float field = clamp_c;
+    for (uint base = 0; base < b.edit_count; base += chunk_size) {
+        const uint n = min(chunk_size, b.edit_count - base);
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (uint j = lid; j < n; j += wg) chunk[j] = edits[edit_indices[b.edit_offset + base + j]];
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (uint j = 0; j < n; ++j) {
+            const SdfEdit e = chunk[j]; /* OpenCL 1.2 has no generic address space */
+            field = sdf_fold(&e, field, p, clamp_c);
+        }
+    }
+    kept[lid] = fabs(field) <= threshold ? 1u : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) {
+        uint mask[2] = {0u, 0u}, count = 0;
+        for (uint i = 0; i < wg; ++i) {
+            if (kept[i]) {
+                mask[i >> 5] |= 1u << (i & 31u);
+                ++count;
+            }
+        }
+        parents[parent].child_mask[0] = mask[0];
+        parents[parent].child_mask[1] = mask[1];
+        child_counts[parent] = count;
+    }
+}

@@ -1,0 +1,56 @@
+/* sdf_build.h: what every construction stage computes the same way (so that count, cull and
+ * evaluate agree bit for bit).
+ *
+ * The band-limited field. Construction stores and tests F_C, the edit fold of sdf_edit.h with its
+ * running value saturated to [-C, C] after every edit, starting from C:
+ *     F_0 = C,  F_i = clamp(combine(op_i, k_i, F_{i-1}, v_i(p)), -C, C).
+ * Why: an add or subtract edit whose value is >= C + k everywhere in a region, or an intersect edit
+ * whose value is <= -(C + k) there, leaves F_C bit for bit unchanged in that region (|F - v| >= k makes
+ * the smooth term exactly 0 and min/max return F). So culling such edits cannot change one bit of a
+ * test or a sample, whatever the edits before and after them: culling on and off give identical
+ * bricks. C = band + guard * (largest blend radius); docs/construction.md gives the argument, and how
+ * far F_C is from the unsaturated field for each guard.
+ */
+#ifndef SDFBRICK_SDF_BUILD_H
+#define SDFBRICK_SDF_BUILD_H
+
+#include "sdf_edit.h"
+
+/* One step of the band-limited fold. */
+inline float sdf_fold(const SdfEdit* e, float field, float3 p, float clamp_c) {
+    const float f = sdf_apply_edit(e, field, p);
+    return fmin(fmax(f, -clamp_c), clamp_c);
+}
+
+/* Centre of cell coord (in cells of size cell) of a lattice whose origin is origin. */
+inline float3 sdf_cell_centre(float3 origin, float cell, int3 coord) {
+    return origin + (convert_float3(coord) + 0.5f) * cell;
+}
+
+/* Local coordinate (each axis in [0, B)) of the child with Morton index i; log2b = log2(B).
+ * Bit 3j of i is bit j of x, bit 3j+1 of y, bit 3j+2 of z. */
+inline int3 sdf_morton_child(uint i, uint log2b) {
+    int3 c = (int3)(0);
+    for (uint j = 0; j < log2b; ++j) {
+        c.x |= (int)((i >> (3u * j)) & 1u) << j;
+        c.y |= (int)((i >> (3u * j + 1u)) & 1u) << j;
+        c.z |= (int)((i >> (3u * j + 2u)) & 1u) << j;
+    }
+    return c;
+}
+
+/* Whether edit e may change F_C anywhere within distance radius of point c, where v is its value at
+ * c (1-Lipschitz: the value anywhere in that ball is within radius of v). margin covers the rounding
+ * of v here and at the other points (relative to the coordinates' magnitude). NaN keeps the edit. */
+inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
+    const float t = e->transform.translation[0], u = e->transform.translation[1], w = e->transform.translation[2];
+    const float reach = fmax(fmax(fabs(t), fabs(u)), fabs(w)) +
+                        e->transform.scale * fmax(fmax(fabs(e->params[0]), fabs(e->params[1])),
+                                                  fmax(fabs(e->params[2]), fabs(e->params[3])));
+    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+    const float limit = clamp_c + e->blend + radius + margin;
+    if (e->op == SDF_OP_INTERSECT) return !(v <= -limit);
+    return !(v >= limit);
+}
+
+#endif /* SDFBRICK_SDF_BUILD_H */
