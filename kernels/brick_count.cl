@@ -10,7 +10,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const uint* ed
                           float origin_x, float origin_y, float origin_z, float child_cell,
                           float threshold, float clamp_c,
                           __global uint* child_counts,
-                          __local SdfEdit* chunk, uint chunk_size, __local uint* kept) {
+                          __local SdfPrepared* chunk, uint chunk_size, __local uint* kept) {
     const uint parent = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = parents[parent];
@@ -18,13 +18,15 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const uint* ed
     const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)b_axis + sdf_morton_child(lid, log2b);
     const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
     float field = clamp_c;
-    for (uint base = 0; base < b.edit_count; base += chunk_size) {
-        const uint n = min(chunk_size, b.edit_count - base);
+    /* |F_C| <= C always: where the threshold is at least C every child is kept, evaluated or not. */
+    const uint edit_count = threshold < clamp_c ? b.edit_count : 0u;
+    for (uint base = 0; base < edit_count; base += chunk_size) {
+        const uint n = min(chunk_size, edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < n; j += wg) chunk[j] = edits[edit_indices[b.edit_offset + base + j]];
+        for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
-            const SdfEdit e = chunk[j]; /* OpenCL 1.2 has no generic address space */
+            const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
             field = sdf_fold(&e, field, p, clamp_c);
         }
     }

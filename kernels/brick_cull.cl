@@ -4,7 +4,8 @@
  * on, every edit that a kept smooth edit depends on (and that the parent's list holds) is kept too.
  * Lists stay unique and ascending: a bit per parent-list entry, then compaction.
  *   cull_words: words of the bit set per brick  -> scan -> word offsets
- *   cull_mark:  the bit set and the kept count  -> scan -> list offsets
+ *   cull_mark:  the bit set, one work-item per word
+ *   cull_count: dependencies (when on) and the kept count  -> scan -> list offsets
  *   cull_write: the compacted list; the brick's edit_offset / edit_count now name it */
 #include "sdf_build.h"
 
@@ -23,32 +24,56 @@ inline uint find_sorted(__global const uint* list, uint n, uint value) {
     return lo < n && list[lo] == value ? lo : n;
 }
 
+/* The brick owning global word w: the last brick whose first word is <= w (bricks with no words own
+ * an empty range and are skipped). */
+inline uint owner_of_word(__global const uint* word_offsets, uint count, uint w) {
+    uint lo = 0, hi = count;
+    while (hi - lo > 1u) {
+        const uint mid = lo + ((hi - lo) >> 1);
+        if (word_offsets[mid] <= w) lo = mid; else hi = mid;
+    }
+    return lo;
+}
+
+/* One work-item per word of the bit sets (32 entries of one brick's inherited list): parallel over
+ * long lists too (the top levels have few bricks and long lists). */
 __kernel void cull_mark(__global const SdfEdit* edits, __global const uint* parent_indices,
-                        __global const SdfBrick* bricks, uint count,
+                        __global const SdfBrick* bricks, uint count, uint total_words,
                         float origin_x, float origin_y, float origin_z, float cell,
                         float radius, float clamp_c, float magnitude,
-                        __global const uint* word_offsets, __global uint* bits,
-                        uint use_dependencies, __global const uint* dep_offsets, __global const uint* dep_indices,
-                        __global uint* kept_counts) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
+                        __global const uint* word_offsets, __global uint* bits) {
+    const uint w = get_global_id(0);
+    if (w >= total_words) return;
+    const uint i = owner_of_word(word_offsets, count, w);
     const SdfBrick b = bricks[i];
     const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
                                      (int3)(b.coord[0], b.coord[1], b.coord[2]));
     __global const uint* list = parent_indices + b.edit_offset;
+    const uint first = (w - word_offsets[i]) << 5;
+    const uint end = min(b.edit_count, first + 32u);
+    uint word = 0;
+    for (uint j = first; j < end; ++j) {
+        const SdfEdit e = edits[list[j]];
+        const SdfPrepared pe = sdf_prepare(e);
+        if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
+    }
+    bits[w] = word;
+}
+
+/* Per brick: with dependencies on, the dependencies of every edit kept by cull_mark that is smooth
+ * (and that the inherited list holds; no closure); then the kept count. */
+__kernel void cull_count(__global const SdfEdit* edits, __global const uint* parent_indices,
+                         __global const SdfBrick* bricks, uint count,
+                         __global const uint* word_offsets, __global uint* bits,
+                         uint use_dependencies, __global const uint* dep_offsets, __global const uint* dep_indices,
+                         __global uint* kept_counts) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const SdfBrick b = bricks[i];
+    __global const uint* list = parent_indices + b.edit_offset;
     __global uint* mask = bits + word_offsets[i];
     const uint words = (b.edit_count + 31u) >> 5;
-    for (uint w = 0; w < words; ++w) {
-        uint word = 0;
-        const uint end = min(b.edit_count, (w + 1u) << 5);
-        for (uint j = w << 5; j < end; ++j) {
-            const SdfEdit e = edits[list[j]];
-            if (sdf_edit_reaches(&e, sdf_edit_value(&e, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
-        }
-        mask[w] = word;
-    }
     if (use_dependencies) {
-        /* Only edits kept by the test above pull in their dependencies (no closure). */
         for (uint w = 0; w < words; ++w) {
             uint word = mask[w];
             while (word != 0u) {

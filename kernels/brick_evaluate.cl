@@ -23,7 +23,7 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const uint*
                              __global const SdfBrick* bricks,
                              float origin_x, float origin_y, float origin_z, float voxel,
                              float clamp_c, float band, float quant_scale,
-                             __global sample_t* pool, __local SdfEdit* chunk, uint chunk_size) {
+                             __global sample_t* pool, __local SdfPrepared* chunk, uint chunk_size) {
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
@@ -40,10 +40,10 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const uint*
     for (uint base = 0; base < b.edit_count; base += chunk_size) {
         const uint n = min(chunk_size, b.edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < n; j += wg) chunk[j] = edits[edit_indices[b.edit_offset + base + j]];
+        for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
-            const SdfEdit e = chunk[j];
+            const SdfPrepared e = chunk[j];
             for (uint s = 0; s < PER_ITEM; ++s) field[s] = sdf_fold(&e, field[s], p[s], clamp_c);
         }
     }

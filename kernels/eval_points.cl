@@ -11,7 +11,7 @@ __kernel void eval_points(__global const SdfEdit* edits, uint edit_count,
     const float3 p = (float3)(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
     float field = SDF_FAR;
     for (uint j = 0; j < edit_count; ++j) {
-        const SdfEdit e = edits[j];
+        const SdfPrepared e = sdf_prepare(edits[j]);
         field = sdf_apply_edit(&e, field, p);
     }
     out[i] = field;

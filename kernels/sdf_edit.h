@@ -90,38 +90,72 @@ inline float sdf_primitive(uint kind, const float prm[4], float3 p) {
     }
 }
 
-/* Value of one edit at p (geometry frame): primitive(local(p)) * scale / L. */
-inline float sdf_edit_value(const SdfEdit* e, float3 p) {
-    const float3 t = (float3)(e->transform.translation[0], e->transform.translation[1], e->transform.translation[2]);
-    const float s = e->transform.scale;
-    const float3 lp = sdf_rotate_inverse(e->transform.rotation, p - t) / s;
-    return sdf_primitive(e->primitive, e->params, lp) * s * e->inv_lipschitz;
+/* An edit prepared for evaluation (kernel side only, 64 bytes like SdfEdit): the reciprocals that
+ * evaluation multiplies by, computed once per edit instead of dividing at every point.
+ *   value(p) = primitive((R^-1 (p - t)) * (1/s)) * (s/L)         (R skipped when it is the identity)
+ *   smooth term of a combine: w^2 * (0.25/k), w = max(k - |a - b|, 0)    (= h^2 k / 4, h = w / k)
+ * Every kernel that reads the field evaluates through this, so all of them agree bit for bit. */
+#define SDF_KIND_ROTATED 0x10000u
+typedef struct SdfPrepared {
+    float t[3];
+    float inv_scale;   /* 1 / s */
+    float q[4];        /* rotation (x, y, z, w) */
+    float prm[4];
+    float out_scale;   /* s / L */
+    float blend;       /* k; 0 = hard */
+    float blend_q;     /* 0.25 / k; 0 when hard */
+    uint kind;         /* primitive | op << 8 | SDF_KIND_ROTATED when the rotation is not the identity */
+} SdfPrepared;
+
+inline SdfPrepared sdf_prepare(SdfEdit e) {
+    SdfPrepared r;
+    for (int i = 0; i < 3; ++i) r.t[i] = e.transform.translation[i];
+    for (int i = 0; i < 4; ++i) {
+        r.q[i] = e.transform.rotation[i];
+        r.prm[i] = e.params[i];
+    }
+    r.inv_scale = 1.0f / e.transform.scale;
+    r.out_scale = e.transform.scale * e.inv_lipschitz;
+    r.blend = e.blend;
+    r.blend_q = e.blend > 0.0f ? 0.25f / e.blend : 0.0f;
+    const int identity = e.transform.rotation[0] == 0.0f && e.transform.rotation[1] == 0.0f &&
+                         e.transform.rotation[2] == 0.0f && e.transform.rotation[3] == 1.0f;
+    r.kind = e.primitive | (e.op << 8) | (identity ? 0u : SDF_KIND_ROTATED);
+    return r;
 }
 
-/* Compact-support quadratic smooth minimum: equals min(a, b) when |a - b| >= k. */
-inline float sdf_smooth_min(float a, float b, float k) {
-    const float h = fmax(k - fabs(a - b), 0.0f) / k;
-    return fmin(a, b) - h * h * k * 0.25f;
-}
-inline float sdf_smooth_max(float a, float b, float k) {
-    const float h = fmax(k - fabs(a - b), 0.0f) / k;
-    return fmax(a, b) + h * h * k * 0.25f;
+/* Value of one prepared edit at p (geometry frame). */
+inline float sdf_prepared_value(const SdfPrepared* e, float3 p) {
+    float3 d = p - (float3)(e->t[0], e->t[1], e->t[2]);
+    if (e->kind & SDF_KIND_ROTATED) d = sdf_rotate_inverse(e->q, d);
+    return sdf_primitive(e->kind & 0xffu, e->prm, d * e->inv_scale) * e->out_scale;
 }
 
-/* Combine the field so far with one edit's value. */
-inline float sdf_combine(uint op, float k, float field, float v) {
-    const int smooth = k > 0.0f;
-    switch (op) {
-        case SDF_OP_ADD: return smooth ? sdf_smooth_min(field, v, k) : fmin(field, v);
-        case SDF_OP_SUBTRACT: return smooth ? sdf_smooth_max(field, -v, k) : fmax(field, -v);
-        case SDF_OP_INTERSECT: return smooth ? sdf_smooth_max(field, v, k) : fmax(field, v);
+/* Compact-support quadratic smooth minimum / maximum: exactly min / max when |a - b| >= k
+ * (then w = 0 and the smooth term is 0 * 0 * q = 0). */
+inline float sdf_smooth_min(float a, float b, float k, float q) {
+    const float w = fmax(k - fabs(a - b), 0.0f);
+    return fmin(a, b) - w * w * q;
+}
+inline float sdf_smooth_max(float a, float b, float k, float q) {
+    const float w = fmax(k - fabs(a - b), 0.0f);
+    return fmax(a, b) + w * w * q;
+}
+
+/* Combine the field so far with one prepared edit's value v. */
+inline float sdf_combine(const SdfPrepared* e, float field, float v) {
+    const int smooth = e->blend > 0.0f;
+    switch ((e->kind >> 8) & 0xffu) {
+        case SDF_OP_ADD: return smooth ? sdf_smooth_min(field, v, e->blend, e->blend_q) : fmin(field, v);
+        case SDF_OP_SUBTRACT: return smooth ? sdf_smooth_max(field, -v, e->blend, e->blend_q) : fmax(field, -v);
+        case SDF_OP_INTERSECT: return smooth ? sdf_smooth_max(field, v, e->blend, e->blend_q) : fmax(field, v);
         default: return field;
     }
 }
 
-/* Apply one edit (held in private memory) to the field at p. */
-inline float sdf_apply_edit(const SdfEdit* e, float field, float3 p) {
-    return sdf_combine(e->op, e->blend, field, sdf_edit_value(e, p));
+/* Apply one prepared edit to the field at p. */
+inline float sdf_apply_edit(const SdfPrepared* e, float field, float3 p) {
+    return sdf_combine(e, field, sdf_prepared_value(e, p));
 }
 
 #endif /* SDFBRICK_SDF_EDIT_H */

@@ -58,7 +58,7 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
 
 struct BrickBuilder::Programs {
     ocl::Program count, subdivide, cull, aabb;
-    ocl::Kernel count_k, subdivide_k, words_k, mark_k, write_k, aabb_k;
+    ocl::Kernel count_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
 
     explicit Programs(ocl::Device& d)
@@ -66,6 +66,7 @@ struct BrickBuilder::Programs {
           cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
           count_k(ocl::make_kernel(count, "brick_count")), subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
+          cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")) {}
 };
 
@@ -242,11 +243,18 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
                          ocl::enqueue(device_, programs_->words_k.get(), "cull_words", global, kGroup1d));
             const std::uint64_t total_words = scan_.exclusive(words, words, children, timeline, "cull", level);
             if (bits.size() < total_words) bits = allocate<cl_uint>(device_, total_words, "the cull bit sets");
-            ocl::set_args(programs_->mark_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children), ox, oy,
-                          oz, cell, cull_radius(level), out.clamp_c, static_cast<float>(magnitude), words, bits,
-                          static_cast<cl_uint>(deps ? 1 : 0), dep_offsets, dep_indices, counts);
-            timeline.add("cull", level, "cull_mark", global, kGroup1d,
-                         ocl::enqueue(device_, programs_->mark_k.get(), "cull_mark", global, kGroup1d));
+            if (total_words > 0) {
+                const std::size_t word_global = round_up(total_words, kGroup1d);
+                ocl::set_args(programs_->mark_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
+                              static_cast<cl_uint>(total_words), ox, oy, oz, cell, cull_radius(level), out.clamp_c,
+                              static_cast<float>(magnitude), words, bits);
+                timeline.add("cull", level, "cull_mark", word_global, kGroup1d,
+                             ocl::enqueue(device_, programs_->mark_k.get(), "cull_mark", word_global, kGroup1d));
+            }
+            ocl::set_args(programs_->cull_count_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
+                          words, bits, static_cast<cl_uint>(deps ? 1 : 0), dep_offsets, dep_indices, counts);
+            timeline.add("cull", level, "cull_count", global, kGroup1d,
+                         ocl::enqueue(device_, programs_->cull_count_k.get(), "cull_count", global, kGroup1d));
             if (offsets.size() < children) offsets = allocate<cl_uint>(device_, children, "the list offsets");
             const std::uint64_t entries = scan_.exclusive(counts, offsets, children, timeline, "cull", level);
             lists = std::make_unique<ocl::Buffer<cl_uint>>(
