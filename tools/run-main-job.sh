@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The main job from a fresh clone: install what is missing, build, and run `sdfbrick eval` on the
-# default device (the first GPU, else PoCL) for the drops scene. Leaves out/drops-slice.png and
-# out/drops-eval.json, and prints the summary.
+# The main job from a fresh clone: install what is missing, build, and on the default device (the
+# first GPU, else PoCL), for the drops scene: build its sparse bricks (`sdfbrick build`, leaf bricks
+# of 0.0625) and evaluate a slice of its field against the host reference (`sdfbrick eval`).
+# Leaves out/drops-build.json, out/drops-slice.png and out/drops-eval.json, and prints the summaries.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install-deps.sh
@@ -9,4 +10,5 @@ cmake --preset release >/dev/null
 cmake --build build/release -j"$(nproc)" --target sdfbrick
 mkdir -p out
 build/release/host/sdfbrick devices
+build/release/host/sdfbrick build scenes/drops.json --brick-size 0.0625 --json out/drops-build.json
 build/release/host/sdfbrick eval scenes/drops.json --out out/drops-slice.png --json out/drops-eval.json
