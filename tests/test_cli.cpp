@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <sys/wait.h>
 
@@ -87,6 +88,29 @@ TEST(Cli, EvalWritesPictureAndReport) {
     EXPECT_EQ(j["devices"][0]["accuracy"]["sign_mismatches"].get<int>(), 0);
     EXPECT_LT(j["devices"][0]["accuracy"]["max_abs_error"].get<double>(), 1e-5);
     EXPECT_GT(j["devices"][0]["device_ms"].get<double>(), 0.0);
+}
+
+TEST(Cli, BuildReportsBricksDigestStagesMemory) {
+    const fs::path dir = test::temp_dir("cli_build");
+    const std::string env = "SDFBRICK_DEVICE=" + test_device_spec();
+    const CliRun r = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.125 --repeat 2 --json " +
+                              (dir / "r.json").string(), env);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(read_file(dir / "r.json"));
+    EXPECT_GT(j["bricks"].get<int>(), 100);
+    EXPECT_EQ(j["digest"].get<std::string>().size(), 16u);
+    EXPECT_GT(j["memory"]["brick pool"].get<std::uint64_t>(), 0u);
+    EXPECT_TRUE(j["devices"][0]["repeats"]["identical"].get<bool>());
+    std::set<std::string> stages;
+    for (const auto& st : j["stages"]) stages.insert(st["name"].get<std::string>());
+    for (const char* s : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"}) EXPECT_TRUE(stages.count(s)) << s;
+    const CliRun off = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.125 --no-cull --json " +
+                                (dir / "off.json").string(), env);
+    ASSERT_EQ(off.status, 0) << off.err;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir / "off.json"))["digest"], j["digest"]);
+    const CliRun bad = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.125 --chunk 4", env);
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("--chunk"), std::string::npos) << bad.err;
 }
 
 // Every kind of bad input: exit status 2, one line on stderr naming the place, no output file.
