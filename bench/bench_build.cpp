@@ -9,6 +9,8 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+
+#include "bench_support.h"
 #include <fmt/format.h>
 
 #include "build/brick_builder.h"
@@ -17,13 +19,8 @@
 namespace sdfbrick {
 namespace {
 
-ocl::DeviceSet& devices() {
-    static ocl::DeviceSet set = ocl::DeviceSet::open("");
-    return set;
-}
-
 build::BrickBuilder& builder() {
-    static build::BrickBuilder b(devices()[0]);
+    static build::BrickBuilder b(bench::device());
     return b;
 }
 
@@ -47,7 +44,7 @@ void bench_build(benchmark::State& state, const std::string& scene_name, double 
         benchmark::Counter(static_cast<double>(last.edit_evaluations), benchmark::Counter::kIsIterationInvariantRate);
     state.counters["edits/leaf"] = last.edits_per_leaf_mean;
     for (const auto& [stage, ms] : stage_ms) state.counters[stage + "_ms"] = ms / iterations;
-    state.SetLabel(devices()[0].info().name);
+    state.SetLabel(bench::device().info().name);
 }
 
 }  // namespace
@@ -56,11 +53,7 @@ void bench_build(benchmark::State& state, const std::string& scene_name, double 
 int main(int argc, char** argv) {
     using namespace sdfbrick;
     benchmark::Initialize(&argc, argv);
-    const ocl::DeviceInfo& info = devices()[0].info();
-    benchmark::AddCustomContext("device", info.name);
-    benchmark::AddCustomContext("device_vendor", info.vendor);
-    benchmark::AddCustomContext("driver", info.driver_version);
-    benchmark::AddCustomContext("platform", info.platform_name + " " + info.platform_version);
+    bench::add_device_context();
     for (const char* name : {"spheres", "drops", "cubes", "rain", "fractal"})
         for (double leaf : {0.5, 0.25, 0.125, 0.0625})
             for (bool cull : {true, false})

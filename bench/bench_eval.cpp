@@ -9,6 +9,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_support.h"
+
 #include "eval/field_eval.h"
 #include "reference/reference_field.h"
 #include "scene/scene_json.h"
@@ -16,13 +18,8 @@
 namespace sdfbrick {
 namespace {
 
-ocl::DeviceSet& devices() {
-    static ocl::DeviceSet set = ocl::DeviceSet::open("");
-    return set;
-}
-
 void bench_eval(benchmark::State& state, const std::string& scene_name) {
-    ocl::Device& device = devices()[0];
+    ocl::Device& device = bench::device();
     static FieldEvaluator evaluator(device);
     const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + scene_name + ".json");
     const Geometry g = geometry_at(s.geometries[0], s.time);
@@ -48,11 +45,7 @@ void bench_eval(benchmark::State& state, const std::string& scene_name) {
 int main(int argc, char** argv) {
     using namespace sdfbrick;
     benchmark::Initialize(&argc, argv);
-    const ocl::DeviceInfo& info = devices()[0].info();
-    benchmark::AddCustomContext("device", info.name);
-    benchmark::AddCustomContext("device_vendor", info.vendor);
-    benchmark::AddCustomContext("driver", info.driver_version);
-    benchmark::AddCustomContext("platform", info.platform_name + " " + info.platform_version);
+    bench::add_device_context();
     for (const char* name : {"spheres", "drops", "cubes", "rain", "fractal"})
         benchmark::RegisterBenchmark((std::string("eval/") + name).c_str(), bench_eval, std::string(name))
             ->Arg(1 << 18)
