@@ -197,37 +197,31 @@ __kernel void deps_count(__global const SdfEdit* edits, __global const SdfBounds
 }
 
 /* Heap sort of a[0 .. len) ascending (in place, O(len log len) in the worst case). */
+/* Moves a[root] down the max-heap a[0, len) to its place. */
+inline void sift_down(__global uint* a, uint root, uint len) {
+    const uint v = a[root];
+    for (;;) {
+        uint child = 2u * root + 1u;
+        if (child >= len) break;
+        if (child + 1u < len && a[child + 1u] > a[child]) ++child;
+        if (a[child] <= v) break;
+        a[root] = a[child];
+        root = child;
+    }
+    a[root] = v;
+}
+
 inline void sort_uints(__global uint* a, uint len) {
     uint sorted = 1;
     for (uint k = 1; k < len && sorted; ++k) sorted = a[k - 1] <= a[k];
     if (sorted) return;
     /* Build a max-heap, then repeatedly move the maximum to the end. */
-    for (uint start = len / 2; start-- > 0;) {
-        uint root = start;
-        const uint v = a[root];
-        for (;;) {
-            uint child = 2u * root + 1u;
-            if (child >= len) break;
-            if (child + 1u < len && a[child + 1u] > a[child]) ++child;
-            if (a[child] <= v) break;
-            a[root] = a[child];
-            root = child;
-        }
-        a[root] = v;
-    }
+    for (uint start = len / 2; start-- > 0;) sift_down(a, start, len);
     for (uint end = len; end-- > 1;) {
         const uint v = a[end];
         a[end] = a[0];
-        uint root = 0;
-        for (;;) {
-            uint child = 2u * root + 1u;
-            if (child >= end) break;
-            if (child + 1u < end && a[child + 1u] > a[child]) ++child;
-            if (a[child] <= v) break;
-            a[root] = a[child];
-            root = child;
-        }
-        a[root] = v;
+        a[0] = v;
+        sift_down(a, 0, end);
     }
 }
 
