@@ -92,4 +92,76 @@ typedef struct SdfBrick {
     sdf_u32 child_mask[2];
 } SdfBrick;
 
+/* A pinhole camera: the ray through pixel (x, y) (x right, y down, centres at +0.5) has direction
+ * normalize(forward + u * right + v * up), u = 2 (x + 0.5) / width - 1, v = 1 - 2 (y + 0.5) / height;
+ * right and up are pre-scaled by tan(fov / 2) (right also by width / height). kernels/sdf_camera.h
+ * evaluates it; host/render/camera.h fills it from the scene's camera. */
+typedef struct SdfCamera {
+    sdf_f32 eye[3];
+    sdf_f32 forward[3];
+    sdf_f32 right[3];
+    sdf_f32 up[3];
+    sdf_u32 width;
+    sdf_u32 height;
+} SdfCamera;
+
+/* A binary BVH node that holds both children's boxes (one node fetch tests both).
+ * child[i] >= 0: internal node index; child[i] < 0: leaf number ~child[i] (a brick, an instance or an
+ * edit, depending on the tree). Every node has two children (a tree of one leaf repeats it), except
+ * in trees that are only searched by point containment, where a missing child has an empty box. */
+typedef struct SdfBvhNode {
+    sdf_f32 lo0[3];
+    sdf_f32 hi0[3];
+    sdf_f32 lo1[3];
+    sdf_f32 hi1[3];
+    sdf_i32 child[2];
+    sdf_u32 pad[2];
+} SdfBvhNode;
+
+/* One object instance: world -> geometry frame is p_g = M (p_w - translation), M = R^T / scale given
+ * by its rows; a world direction maps by M alone, so a ray parameter t is the same in both frames.
+ * A geometry-frame normal n maps to the world as normalize(M^T n). */
+typedef struct SdfInstance {
+    sdf_f32 world_to_geometry[9];
+    sdf_f32 translation[3];
+    sdf_f32 scale;
+    sdf_u32 geometry; /* index into the scene's geometries */
+    sdf_u32 pad[2];
+} SdfInstance;
+
+/* One geometry's bricks as the brick tracer reads them (all geometries share the combined node, brick
+ * and pool arrays). The samples of brick b of this geometry are pool[(brick_offset + b) * S^3 ...],
+ * sample (i, j, k) at brick_min + (ijk - apron + 0.5) * voxel; value * dequant = distance. */
+typedef struct SdfBrickGeometry {
+    sdf_f32 voxel;
+    sdf_f32 inv_voxel;
+    sdf_f32 dequant;
+    sdf_u32 root;         /* root node in the combined node array, SDF_NO_NODE when there is no brick */
+    sdf_u32 brick_offset; /* first brick of this geometry in the combined arrays */
+    sdf_u32 pad[3];
+} SdfBrickGeometry;
+
+/* Shaded mode (kernels/shade.cl): Blinn-Phong lit by a directional light, with soft shadows and ambient
+ * occlusion from secondary rays through the same BVH. */
+typedef struct SdfShading {
+    sdf_f32 light_dir[3];   /* unit, towards the light */
+    sdf_f32 light_color[3]; /* colour * intensity */
+    sdf_f32 shadow_spread;  /* tangent of the light's angular radius: the penumbra's width */
+    sdf_f32 ao_radius;      /* occluders within this world distance darken the ambient term */
+    sdf_f32 ray_offset;     /* secondary rays start this far off the surface, along the normal */
+    sdf_u32 shadow_rays;
+    sdf_u32 ao_rays;
+    sdf_u32 pad;
+} SdfShading;
+
+/* Per-pixel output of the tracers (two arrays of width * height):
+ *   hit: float4 (nx, ny, nz, depth): world unit normal and the distance along the unit ray from the
+ *        eye; depth < 0 (SDF_MISS) on a miss, where the normal is 0.
+ *   aux: uint2, meaning per tracer (brick tracer: brick id and step counts; reference: iterations and
+ *        flags). */
+#define SDF_MISS (-1.0f)
+#define SDF_NO_NODE 0xFFFFFFFFu
+#define SDF_NO_BRICK 0xFFFFFFFFu
+#define SDF_REF_UNCONVERGED 1u /* reference aux.y flag: the iteration limit was reached */
+
 #endif /* SDFBRICK_SDF_TYPES_H */

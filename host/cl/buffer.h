@@ -88,6 +88,18 @@ public:
               [&] { return transfer("reading", first, out.size()); });
     }
 
+    // Copies all of src (same device) to elements [first, first + src.size()) on the device; enqueued
+    // on the device's in-order queue, so later commands see the copy.
+    void copy_from(const Buffer<T>& src, std::size_t first = 0) {
+        check_range(first, src.size(), "copying into");
+        if (src.size() == 0) {
+            return;
+        }
+        check(clEnqueueCopyBuffer(device_->queue(), src.get(), memory_.get(), 0, first * sizeof(T), src.bytes(), 0,
+                                  nullptr, nullptr),
+              [&] { return transfer("copying into", first, src.size()); });
+    }
+
     std::vector<T> read() const {
         std::vector<T> values(count_);
         read_into(values);

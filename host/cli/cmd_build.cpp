@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "build/brick_builder.h"
+#include "cli/build_flags.h"
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
@@ -23,9 +24,8 @@ const char* const kStages[] = {"edit_bounds", "dependencies", "count", "scan", "
 struct BuildOptions {
     std::string file;
     std::optional<double> time;
-    build::BuildSettings settings;
-    std::string format = "int8";
-    bool no_cull = false;
+    BuildFlags flags;
+    build::BuildSettings settings;  // flags resolved
     int repeat = 1;
     std::optional<std::string> json;
 };
@@ -173,10 +173,7 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
 
 void run_build(BuildOptions o, const GlobalOptions& global) {
     apply_global_options(global);
-    const auto format = build::format_from_string(o.format);
-    if (!format) throw InputError(fmt::format("--format must be int8, int16 or float, got \"{}\"", o.format));
-    o.settings.format = *format;
-    o.settings.cull = !o.no_cull;
+    o.settings = o.flags.resolve();
     const Scene file_scene = load_scene(o.file);
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
@@ -186,7 +183,7 @@ void run_build(BuildOptions o, const GlobalOptions& global) {
     std::string text = fmt::format("build {} ({}), t = {} s: brick size {}, branching {}, {}^3 samples, {}, chunk {}, "
                                    "group {}, culling {}{}, guard {}\n",
                                    scene.name, o.file, t, o.settings.leaf_size, o.settings.branching, o.settings.samples,
-                                   o.format, o.settings.chunk, o.settings.eval_group, o.settings.cull ? "on" : "off",
+                                   build::to_string(o.settings.format), o.settings.chunk, o.settings.eval_group, o.settings.cull ? "on" : "off",
                                    o.settings.dependencies ? " with dependencies" : "", o.settings.guard);
     nlohmann::json device_reports = nlohmann::json::array();
     std::string first_digest, first_lists;
@@ -211,11 +208,8 @@ void run_build(BuildOptions o, const GlobalOptions& global) {
         nlohmann::json report = {
             {"command", "build"},
             {"scene", {{"file", o.file}, {"name", scene.name}, {"time", t}, {"geometries", scene.geometries.size()}}},
-            {"settings", {{"brick_size", o.settings.leaf_size}, {"levels", o.settings.levels},
-                          {"branching", o.settings.branching}, {"samples", o.settings.samples}, {"format", o.format},
-                          {"band_voxels", o.settings.band_voxels}, {"guard", o.settings.guard},
-                          {"chunk", o.settings.chunk}, {"group", o.settings.eval_group}, {"cull", o.settings.cull},
-                          {"dependencies", o.settings.dependencies}, {"repeat", o.repeat}}},
+            {"settings", settings_json(o.settings)},
+            {"repeat", o.repeat},
             {"bricks", first["bricks"]},
             {"digest", first["digest"]},
             {"stages", first["stages"]},
@@ -235,20 +229,9 @@ void add_build_command(CLI::App& app, const GlobalOptions& global) {
     auto o = std::make_shared<BuildOptions>();
     auto* cmd = app.add_subcommand("build", "Build the sparse brick set of every geometry of a scene on each selected "
                                             "device: per-stage and per-level times, memory, digests");
-    build::BuildSettings& s = o->settings;
     cmd->add_option("file", o->file, "scene file (JSON)")->required();
     cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)");
-    cmd->add_option("--brick-size", s.leaf_size, "side of a leaf brick (geometry units)")->capture_default_str();
-    cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
-    cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();
-    cmd->add_option("--samples", s.samples, "samples per brick axis: 8 (one-voxel apron) or 10 (two-voxel apron)")->capture_default_str();
-    cmd->add_option("--format", o->format, "brick storage: int8, int16 (snorm over +-band) or float")->capture_default_str();
-    cmd->add_option("--band", s.band_voxels, "stored distance range in voxels (+-)")->capture_default_str();
-    cmd->add_option("--guard", s.guard, "saturation C = band + guard * largest blend radius (see docs/construction.md)")->capture_default_str();
-    cmd->add_option("--chunk", s.chunk, "edits staged per __local chunk (16..256)")->capture_default_str();
-    cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation")->capture_default_str();
-    cmd->add_flag("--no-cull", o->no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
-    cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
+    o->flags.add_to(cmd);
     cmd->add_option("--repeat", o->repeat, "build this many times (reports median, min, max; checks outputs are identical)")
         ->check(CLI::Range(1, 1000))->capture_default_str();
     cmd->add_option("--json", o->json, "write a JSON report here");

@@ -21,5 +21,6 @@ void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_scene_commands(CLI::App& app, const GlobalOptions& global);
 void add_eval_command(CLI::App& app, const GlobalOptions& global);
 void add_build_command(CLI::App& app, const GlobalOptions& global);
+void add_render_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace sdfbrick::cli

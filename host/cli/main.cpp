@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     cli::add_scene_commands(app, global);
     cli::add_eval_command(app, global);
     cli::add_build_command(app, global);
+    cli::add_render_command(app, global);
 
     try {
         app.parse(argc, argv);

@@ -1,0 +1,261 @@
+#include "bvh/bvh_builder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "cl/launch.h"
+#include "cl/program.h"
+#include "core/errors.h"
+#include "render/camera.h"
+
+namespace sdfbrick::bvh {
+namespace {
+
+constexpr std::size_t kGroup = 64;
+constexpr cl_uint kFlagUnsorted = 1u, kFlagTooLarge = 2u;  // bvh_morton_bricks
+
+std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
+
+// Internal nodes of a tree over n leaves (a single leaf still gets a root node).
+std::size_t nodes_for(std::size_t n) { return n <= 1 ? n : n - 1; }
+
+float float_down(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) <= x ? f : std::nextafter(f, -INFINITY);
+}
+float float_up(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) >= x ? f : std::nextafter(f, INFINITY);
+}
+
+// World box of an object: the 8 corners of its geometry's brick box, transformed, rounded outward
+// with a margin for the rounding of the instance's float transform.
+SdfBounds world_box(const Object& o, const SdfBounds& local) {
+    Aabb box;
+    for (int c = 0; c < 8; ++c) {
+        box.grow(o.transform.apply(glm::dvec3((c & 1) ? local.hi[0] : local.lo[0], (c & 2) ? local.hi[1] : local.lo[1],
+                                              (c & 4) ? local.hi[2] : local.lo[2])));
+    }
+    const double margin = 1e-6 * (glm::length(box.extent()) + glm::length(o.transform.translation) + 1.0);
+    SdfBounds out;
+    for (int a = 0; a < 3; ++a) {
+        out.lo[a] = float_down(box.lo[a] - margin);
+        out.hi[a] = float_up(box.hi[a] + margin);
+    }
+    return out;
+}
+
+// Bit i of v -> bit 3i, for the low 16 bits.
+std::uint64_t spread16(std::uint64_t v) {
+    std::uint64_t x = v & 0xFFFF;
+    x = (x | (x << 16)) & 0x0000FF0000FFULL;
+    x = (x | (x << 8)) & 0x00F00F00F00FULL;
+    x = (x | (x << 4)) & 0x0C30C30C30C3ULL;
+    x = (x | (x << 2)) & 0x249249249249ULL;
+    return x;
+}
+
+}  // namespace
+
+struct BvhBuilder::Programs {
+    ocl::Program program;
+    ocl::Kernel morton, hierarchy, refit;
+    explicit Programs(ocl::Device& d)
+        : program(ocl::build_program(d, "bvh_build.cl")),
+          morton(ocl::make_kernel(program, "bvh_morton_bricks")),
+          hierarchy(ocl::make_kernel(program, "bvh_hierarchy")),
+          refit(ocl::make_kernel(program, "bvh_refit")) {}
+};
+
+BvhBuilder::BvhBuilder(ocl::Device& device) : device_(device), programs_(std::make_unique<Programs>(device)) {}
+BvhBuilder::~BvhBuilder() = default;
+
+// Hierarchy and refit of one tree over n >= 1 sorted leaves into nodes[offset ...]; its root box goes
+// to root_boxes[slot]. Scratch buffers hold at least n entries.
+struct TreeScratch {
+    ocl::Buffer<cl_uint> node_parent, leaf_parent, arrivals;
+    TreeScratch(ocl::Device& d, std::size_t n) : node_parent(d, n), leaf_parent(d, n), arrivals(d, n) {}
+    std::uint64_t bytes() const { return node_parent.bytes() + leaf_parent.bytes() + arrivals.bytes(); }
+};
+
+void BvhBuilder::build_tree(build::Timeline& timeline, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
+                            const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
+                            std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes,
+                            std::size_t slot) {
+    const auto count = static_cast<cl_uint>(n), node_offset = static_cast<cl_uint>(offset);
+    const std::vector<cl_uint> zeros(nodes_for(n), 0u);
+    scratch.arrivals.write(zeros);
+    if (n > 1) {
+        ocl::set_args(programs_->hierarchy.get(), keys, count, node_offset, nodes, scratch.node_parent,
+                      scratch.leaf_parent);
+        const std::size_t global = round_up(n - 1, kGroup);
+        timeline.add(stage, -1, "bvh_hierarchy", global, kGroup,
+                     ocl::enqueue(device_, programs_->hierarchy.get(), "bvh_hierarchy", global, kGroup));
+    }
+    ocl::set_args(programs_->refit.get(), leaf_boxes, count, node_offset, nodes, scratch.node_parent,
+                  scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot));
+    const std::size_t global = round_up(n, kGroup);
+    timeline.add(stage, -1, "bvh_refit", global, kGroup,
+                 ocl::enqueue(device_, programs_->refit.get(), "bvh_refit", global, kGroup));
+}
+
+SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBuild> builds) {
+    const auto wall_start = std::chrono::steady_clock::now();
+    if (builds.size() != scene.geometries.size())
+        throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
+    SceneBvh out;
+    build::Timeline timeline;
+
+    // Bottom levels: one tree per geometry, all in one node array.
+    std::size_t total_nodes = 0, max_leaves = 1;
+    for (const build::GeometryBuild& b : builds) {
+        total_nodes += nodes_for(b.leaf_count);
+        max_leaves = std::max<std::size_t>(max_leaves, b.leaf_count);
+    }
+    out.nodes = std::make_unique<ocl::Buffer<SdfBvhNode>>(device_, total_nodes);
+    out.node_count = total_nodes;
+    ocl::Buffer<cl_ulong> keys(device_, max_leaves);
+    TreeScratch scratch(device_, max_leaves);
+    ocl::Buffer<cl_uint> flags(device_, std::vector<cl_uint>(builds.size() + 1, 0u));
+    ocl::Buffer<SdfBounds> root_boxes(device_, builds.size() + 1);
+    std::size_t offset = 0;
+    for (std::size_t g = 0; g < builds.size(); ++g) {
+        const build::GeometryBuild& b = builds[g];
+        const std::size_t n = b.leaf_count;
+        out.roots.push_back(n == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(offset));
+        if (n == 0) continue;
+        ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), keys, flags);
+        timeline.add("bvh", -1, "bvh_morton_bricks", round_up(n, kGroup), kGroup,
+                     ocl::enqueue(device_, programs_->morton.get(), "bvh_morton_bricks", round_up(n, kGroup), kGroup));
+        build_tree(timeline, "bvh", keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g);
+        offset += nodes_for(n);
+    }
+    const cl_uint flag = flags.read()[0];
+    if (flag & kFlagTooLarge)
+        throw InputError("a brick coordinate needs more than the 21 bits per axis of the BVH's Morton keys: use fewer "
+                         "--levels or a larger --brick-size");
+    if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
+    const std::vector<SdfBounds> boxes = root_boxes.read();
+    out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
+
+    // Top level: the instances of geometries with bricks, sorted by the Morton key of their box centre.
+    std::vector<SdfInstance> all = render::make_instances(scene);
+    std::vector<std::size_t> objects;
+    std::vector<SdfBounds> world;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const std::size_t g = scene.objects[i].geometry;
+        if (out.roots[g] == SDF_NO_NODE) continue;
+        objects.push_back(i);
+        world.push_back(world_box(scene.objects[i], out.geometry_boxes[g]));
+    }
+    if (objects.size() > 65536)
+        throw InputError(fmt::format("the scene has {} objects with bricks; at most 65536 are supported", objects.size()));
+    std::vector<SdfInstance> instances;
+    std::vector<SdfBounds> leaf_boxes;
+    std::vector<cl_ulong> tlas_keys;
+    if (objects.empty()) {  // nothing to trace: one instance of a geometry without bricks
+        SdfInstance none{};
+        none.world_to_geometry[0] = none.world_to_geometry[4] = none.world_to_geometry[8] = 1.0f;
+        none.scale = 1.0f;
+        none.geometry = static_cast<sdf_u32>(builds.size());
+        instances.push_back(none);
+        leaf_boxes.push_back(SdfBounds{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}});
+        tlas_keys.push_back(0);
+    } else {
+        Aabb all_box;
+        for (const SdfBounds& b : world) {
+            all_box.grow(glm::dvec3(b.lo[0], b.lo[1], b.lo[2]));
+            all_box.grow(glm::dvec3(b.hi[0], b.hi[1], b.hi[2]));
+        }
+        const glm::dvec3 extent = glm::max(all_box.extent(), glm::dvec3(1e-30));
+        std::vector<std::uint64_t> morton(objects.size());
+        for (std::size_t i = 0; i < objects.size(); ++i) {
+            const glm::dvec3 c = (glm::dvec3(world[i].lo[0] + world[i].hi[0], world[i].lo[1] + world[i].hi[1],
+                                             world[i].lo[2] + world[i].hi[2]) * 0.5 - all_box.lo) / extent;
+            const glm::dvec3 q = glm::clamp(glm::floor(c * 65536.0), glm::dvec3(0.0), glm::dvec3(65535.0));
+            morton[i] = spread16(static_cast<std::uint64_t>(q.x)) | (spread16(static_cast<std::uint64_t>(q.y)) << 1) |
+                        (spread16(static_cast<std::uint64_t>(q.z)) << 2);
+        }
+        std::vector<std::size_t> order(objects.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            return morton[a] != morton[b] ? morton[a] < morton[b] : a < b;
+        });
+        for (std::size_t r = 0; r < order.size(); ++r) {  // 48-bit Morton code, then the rank: unique, ascending
+            const std::size_t i = order[r];
+            instances.push_back(all[objects[i]]);
+            leaf_boxes.push_back(world[i]);
+            tlas_keys.push_back((morton[i] << 16) | r);
+            out.instance_objects.push_back(objects[i]);
+        }
+    }
+    out.instances = std::make_unique<ocl::Buffer<SdfInstance>>(device_, instances, CL_MEM_READ_ONLY);
+    out.tlas = std::make_unique<ocl::Buffer<SdfBvhNode>>(device_, nodes_for(instances.size()));
+    out.tlas_node_count = out.tlas->size();
+    ocl::Buffer<cl_ulong> tlas_key_buffer(device_, tlas_keys, CL_MEM_READ_ONLY);
+    ocl::Buffer<SdfBounds> tlas_boxes(device_, leaf_boxes, CL_MEM_READ_ONLY);
+    TreeScratch tlas_scratch(device_, instances.size());
+    build_tree(timeline, "tlas", tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
+               builds.size());
+
+    out.launches = timeline.resolve();
+    out.device_ms = timeline.total_ms();
+    out.memory["bvh nodes"] = out.nodes->bytes();
+    out.memory["tlas nodes"] = out.tlas->bytes() + out.instances->bytes();
+    out.memory["bvh scratch"] = keys.bytes() + scratch.bytes();
+    out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
+    return out;
+}
+
+std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
+    const std::size_t n = leaf_boxes.size();
+    if (n == 0) return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
+    if (root >= nodes.size()) return fmt::format("root {} is outside the {} nodes", root, nodes.size());
+    std::vector<int> seen(n, 0);
+    std::vector<std::uint32_t> stack{root};
+    std::size_t visited = 0;
+    auto contains = [](const float* lo, const float* hi, const float* clo, const float* chi) {
+        for (int a = 0; a < 3; ++a)
+            if (clo[a] < lo[a] || chi[a] > hi[a]) return false;
+        return true;
+    };
+    while (!stack.empty()) {
+        const std::uint32_t i = stack.back();
+        stack.pop_back();
+        if (i >= nodes.size()) return fmt::format("node index {} is outside the {} nodes", i, nodes.size());
+        if (++visited > nodes.size()) return "a node is reached twice (the tree has a cycle or shared subtree)";
+        const SdfBvhNode& node = nodes[i];
+        const int children = n == 1 ? 1 : 2;
+        if (n == 1 && node.child[0] != node.child[1]) return "a one-leaf tree must repeat its leaf";
+        for (int c = 0; c < children; ++c) {
+            const float* lo = c == 0 ? node.lo0 : node.lo1;
+            const float* hi = c == 0 ? node.hi0 : node.hi1;
+            const int child = node.child[c];
+            if (child < 0) {
+                const auto leaf = static_cast<std::size_t>(~child);
+                if (leaf >= n) return fmt::format("node {} names leaf {} of {}", i, leaf, n);
+                if (seen[leaf]++) return fmt::format("leaf {} is reached twice", leaf);
+                const SdfBounds& b = leaf_boxes[leaf];
+                if (!std::equal(lo, lo + 3, b.lo) || !std::equal(hi, hi + 3, b.hi))
+                    return fmt::format("node {} holds a box for leaf {} that is not the leaf's box", i, leaf);
+                continue;
+            }
+            const auto ci = static_cast<std::uint32_t>(child);
+            if (ci >= nodes.size()) return fmt::format("node {} names node {} of {}", i, ci, nodes.size());
+            const SdfBvhNode& cn = nodes[ci];
+            if (!contains(lo, hi, cn.lo0, cn.hi0) || !contains(lo, hi, cn.lo1, cn.hi1))
+                return fmt::format("the box of node {} in node {} does not contain its children's boxes", ci, i);
+            stack.push_back(ci);
+        }
+    }
+    for (std::size_t l = 0; l < n; ++l)
+        if (!seen[l]) return fmt::format("leaf {} is not reachable", l);
+    return "";
+}
+
+}  // namespace sdfbrick::bvh

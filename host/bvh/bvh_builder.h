@@ -1,0 +1,65 @@
+// Stage "bvh" (DESIGN.md section 3): a linear BVH (Karras 2012) per geometry over its leaf bricks,
+// built and refit on the device directly from construction's Morton order (kernels/bvh_build.cl), and
+// a top level over the object instances, so instances of one geometry share its bricks and tree.
+// The top level's few keys are computed and sorted on the host; its tree is built by the same kernels.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "build/brick_builder.h"
+#include "build/timeline.h"
+#include "cl/buffer.h"
+#include "cl/device.h"
+#include "scene/scene.h"
+#include "sdf_types.h"
+
+namespace sdfbrick::bvh {
+
+struct SceneBvh {
+    std::unique_ptr<ocl::Buffer<SdfBvhNode>> nodes;       // the bottom levels of all geometries, one array
+    std::unique_ptr<ocl::Buffer<SdfBvhNode>> tlas;        // the top level; leaf i = instances[i]
+    std::unique_ptr<ocl::Buffer<SdfInstance>> instances;  // in the top level's leaf order
+    std::vector<std::uint32_t> roots;        // per geometry: its root in nodes, SDF_NO_NODE without bricks
+    std::vector<SdfBounds> geometry_boxes;   // per geometry: the box of its bricks (geometry frame)
+    std::vector<std::size_t> instance_objects;  // instances[i] is scene object instance_objects[i]
+    std::uint64_t node_count = 0, tlas_node_count = 0;
+    std::vector<build::Launch> launches;
+    double device_ms = 0.0;
+    double host_ms = 0.0;
+    std::map<std::string, std::uint64_t> memory;
+};
+
+struct TreeScratch;
+
+class BvhBuilder {
+public:
+    explicit BvhBuilder(ocl::Device& device);
+    ~BvhBuilder();
+
+    // builds[g] is scene.geometries[g] as BrickBuilder built it. A scene with nothing to trace gets a
+    // top level with one instance of a geometry without bricks (SdfBrickGeometry root SDF_NO_NODE),
+    // which every ray misses. Throws InputError when a brick coordinate exceeds the 21 bits per axis
+    // of the Morton keys (too many levels).
+    SceneBvh build(const Scene& scene, std::span<const build::GeometryBuild> builds);
+
+private:
+    struct Programs;
+    void build_tree(build::Timeline& timeline, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
+                    const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
+                    std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot);
+    ocl::Device& device_;
+    std::unique_ptr<Programs> programs_;
+};
+
+// Checks a tree read back to the host: every leaf 0 .. leaf_boxes.size() - 1 is reached exactly once
+// from root, a leaf's box in its parent equals leaf_boxes[leaf], and every internal child's box
+// contains both of its children's boxes. Returns "" when it holds, else the first violation.
+std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes);
+
+}  // namespace sdfbrick::bvh

@@ -1,0 +1,39 @@
+#include "cli/build_flags.h"
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace sdfbrick::cli {
+
+void BuildFlags::add_to(CLI::App* cmd) {
+    build::BuildSettings& s = settings;
+    cmd->add_option("--brick-size", s.leaf_size, "side of a leaf brick (geometry units)")->capture_default_str();
+    cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
+    cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();
+    cmd->add_option("--samples", s.samples, "samples per brick axis: 8 (one-voxel apron) or 10 (two-voxel apron)")->capture_default_str();
+    cmd->add_option("--format", format, "brick storage: int8, int16 (snorm over +-band) or float")->capture_default_str();
+    cmd->add_option("--band", s.band_voxels, "stored distance range in voxels (+-)")->capture_default_str();
+    cmd->add_option("--guard", s.guard, "saturation C = band + guard * largest blend radius (see docs/construction.md)")->capture_default_str();
+    cmd->add_option("--chunk", s.chunk, "edits staged per __local chunk (16..256)")->capture_default_str();
+    cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation")->capture_default_str();
+    cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
+    cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
+}
+
+build::BuildSettings BuildFlags::resolve() const {
+    build::BuildSettings s = settings;
+    const auto f = build::format_from_string(format);
+    if (!f) throw InputError(fmt::format("--format must be int8, int16 or float, got \"{}\"", format));
+    s.format = *f;
+    s.cull = !no_cull;
+    return s;
+}
+
+nlohmann::json settings_json(const build::BuildSettings& s) {
+    return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
+            {"format", build::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
+            {"chunk", s.chunk}, {"group", s.eval_group}, {"cull", s.cull}, {"dependencies", s.dependencies}};
+}
+
+}  // namespace sdfbrick::cli

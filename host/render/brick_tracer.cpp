@@ -1,0 +1,166 @@
+#include "render/brick_tracer.h"
+
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "cl/launch.h"
+#include "cl/program.h"
+#include "core/errors.h"
+
+namespace sdfbrick::render {
+
+std::string_view to_string(Method m) { return m == Method::sphere ? "sphere" : "analytic"; }
+std::string_view to_string(NormalMethod n) {
+    return n == NormalMethod::central ? "central" : n == NormalMethod::tetra ? "tetra" : "continuous";
+}
+std::optional<Method> method_from_string(std::string_view s) {
+    if (s == "sphere") return Method::sphere;
+    if (s == "analytic") return Method::analytic;
+    return std::nullopt;
+}
+std::optional<NormalMethod> normals_from_string(std::string_view s) {
+    if (s == "central") return NormalMethod::central;
+    if (s == "tetra") return NormalMethod::tetra;
+    if (s == "continuous") return NormalMethod::continuous;
+    return std::nullopt;
+}
+
+SceneBricks build_scene_bricks(build::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
+                               const build::BuildSettings& settings) {
+    ocl::Device& device = bricks.device();
+    SceneBricks out;
+    out.settings = settings;
+    for (const Geometry& g : scene.geometries) {
+        out.builds.push_back(bricks.build(g, settings));
+        out.bricks += out.builds.back().leaf_count;
+        out.build_ms += out.builds.back().device_ms;
+    }
+    out.bvh = bvh.build(scene, out.builds);
+
+    const std::size_t sample_count = static_cast<std::size_t>(settings.samples) * settings.samples * settings.samples;
+    const std::size_t brick_bytes = sample_count * build::sample_bytes(settings.format);
+    if (out.builds.size() != 1) {
+        out.combined_pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device, out.bricks * brick_bytes);
+    }
+    std::vector<SdfBrickGeometry> table;
+    std::uint64_t first = 0;
+    const double quant = settings.format == build::BrickFormat::int8    ? 127.0
+                         : settings.format == build::BrickFormat::int16 ? 32767.0
+                                                                        : 1.0;
+    for (std::size_t g = 0; g < out.builds.size(); ++g) {
+        const build::GeometryBuild& b = out.builds[g];
+        SdfBrickGeometry e{};
+        e.voxel = static_cast<float>(settings.voxel());
+        e.inv_voxel = static_cast<float>(1.0 / settings.voxel());
+        e.dequant = quant == 1.0 ? 1.0f : static_cast<float>(b.band / quant);
+        e.root = out.bvh.roots[g];
+        e.brick_offset = static_cast<sdf_u32>(first);
+        table.push_back(e);
+        if (out.combined_pool) out.combined_pool->copy_from(*b.pool, first * brick_bytes);
+        first += b.leaf_count;
+    }
+    SdfBrickGeometry none{};  // the geometry of the top level's stand-in instance when nothing has bricks
+    none.voxel = none.inv_voxel = none.dequant = 1.0f;
+    none.root = SDF_NO_NODE;
+    table.push_back(none);
+    out.geometries = std::make_unique<ocl::Buffer<SdfBrickGeometry>>(device, table, CL_MEM_READ_ONLY);
+
+    double scale = 0.0;
+    for (const Object& o : scene.objects) scale = scale == 0.0 ? o.transform.scale : std::min(scale, o.transform.scale);
+    out.voxel_world = settings.voxel() * (scale > 0.0 ? scale : 1.0);
+    return out;
+}
+
+SdfShading make_shading(const Scene& scene, const SceneBricks& bricks, const TraceSettings& settings) {
+    SdfShading s{};
+    const glm::dvec3 to_light = -glm::normalize(scene.light.direction);
+    const glm::dvec3 colour = scene.light.color * scene.light.intensity;
+    for (int a = 0; a < 3; ++a) {
+        s.light_dir[a] = static_cast<float>(to_light[a]);
+        s.light_color[a] = static_cast<float>(colour[a]);
+    }
+    Aabb world;
+    for (const Object& o : scene.objects) world.grow(bounds(scene, o));
+    const double extent = world.empty() ? 1.0 : glm::length(world.extent());
+    s.shadow_spread = 0.04f;                               // a light of ~2.3 degrees radius
+    s.ao_radius = static_cast<float>(0.03 * extent);       // occlusion scale: 3% of the scene's diagonal
+    s.ray_offset = static_cast<float>(2.0 * bricks.voxel_world);
+    s.shadow_rays = static_cast<sdf_u32>(settings.shadow_rays);
+    s.ao_rays = static_cast<sdf_u32>(settings.ao_rays);
+    return s;
+}
+
+struct BrickTracer::Kernels {
+    ocl::Program trace_program, shade_program;
+    ocl::Kernel trace, shade;
+    Kernels(ocl::Device& d, const std::string& options)
+        : trace_program(ocl::build_program(d, "trace.cl", options)),
+          shade_program(ocl::build_program(d, "shade.cl", options)),
+          trace(ocl::make_kernel(trace_program, "trace_primary")),
+          shade(ocl::make_kernel(shade_program, "shade")) {}
+};
+
+BrickTracer::BrickTracer(ocl::Device& device) : device_(device) {}
+BrickTracer::~BrickTracer() = default;
+
+BrickTracer::Kernels& BrickTracer::kernels(const build::BuildSettings& b, const TraceSettings& t) {
+    const int format = b.format == build::BrickFormat::int8 ? 0 : b.format == build::BrickFormat::int16 ? 1 : 2;
+    const std::string options =
+        fmt::format("-DSAMPLES={} -DAPRON={} -DFORMAT={} -DMETHOD={} -DNORMALS={}", b.samples, b.apron(), format,
+                    t.method == Method::sphere ? 0 : 1, static_cast<int>(t.normals));
+    auto& k = cache_[options];
+    if (!k) k = std::make_unique<Kernels>(device_, options);
+    return *k;
+}
+
+TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
+                                const TraceSettings& settings) {
+    validate_image_size(settings.width, settings.height);
+    if (camera.width != static_cast<sdf_u32>(settings.width) || camera.height != static_cast<sdf_u32>(settings.height))
+        throw std::invalid_argument("BrickTracer::render: the camera's size differs from the settings'");
+    const std::size_t gx = static_cast<std::size_t>(settings.group_x), gy = static_cast<std::size_t>(settings.group_y);
+    if (gx * gy == 0 || gx * gy > device_.info().max_work_group_size)
+        throw InputError(fmt::format("--group-x/--group-y: {} x {} is not a work-group size {} accepts (1..{})", gx, gy,
+                                     device_.info().name, device_.info().max_work_group_size));
+    Kernels& k = kernels(bricks.settings, settings);
+    const std::size_t pixels = static_cast<std::size_t>(settings.width) * settings.height;
+    ocl::Buffer<SdfCamera> cam(device_, std::span<const SdfCamera>(&camera, 1), CL_MEM_READ_ONLY);
+    ocl::Buffer<cl_float4> hit(device_, pixels);
+    ocl::Buffer<cl_uint2> aux(device_, pixels);
+    const std::array<std::size_t, 3> global{(settings.width + gx - 1) / gx * gx, (settings.height + gy - 1) / gy * gy, 1};
+    const std::array<std::size_t, 3> local{gx, gy, 1};
+    build::Timeline timeline;
+    ocl::set_args(k.trace.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
+                  bricks.pool(), hit, aux);
+    timeline.add("trace", -1, "trace_primary", global[0] * global[1], gx * gy,
+                 ocl::enqueue(device_, k.trace.get(), "trace_primary", global, local, 2));
+    std::optional<ocl::Buffer<cl_float4>> colour;
+    if (settings.shade) {
+        const SdfShading shading = make_shading(scene, bricks, settings);
+        ocl::Buffer<SdfShading> sh(device_, std::span<const SdfShading>(&shading, 1), CL_MEM_READ_ONLY);
+        colour.emplace(device_, pixels);
+        ocl::set_args(k.shade.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
+                      *bricks.bvh.nodes, bricks.pool(), sh, hit, *colour);
+        timeline.add("shade", -1, "shade", global[0] * global[1], gx * gy,
+                     ocl::enqueue(device_, k.shade.get(), "shade", global, local, 2));
+    }
+    TraceResult out;
+    out.launches = timeline.resolve();
+    out.trace_ms = timeline.stage_ms("trace");
+    out.shade_ms = timeline.stage_ms("shade");
+    out.buffer = RenderBuffer(settings.width, settings.height);
+    hit.read_into(out.buffer.hit);
+    aux.read_into(out.buffer.aux);
+    if (colour) {
+        const std::vector<cl_float4> c = colour->read();
+        out.colour = Image(settings.width, settings.height, 3);
+        for (std::size_t i = 0; i < pixels; ++i)
+            for (int ch = 0; ch < 3; ++ch) out.colour.pixels[3 * i + ch] = c[i].s[ch];
+    }
+    return out;
+}
+
+}  // namespace sdfbrick::render

@@ -1,0 +1,89 @@
+// Stages "trace" and "shade" (DESIGN.md section 3): the scene's bricks and BVH ready to trace, and the
+// brick ray tracer (kernels/trace.cl, kernels/shade.cl over kernels/sdf_trace.h).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "build/brick_builder.h"
+#include "build/timeline.h"
+#include "bvh/bvh_builder.h"
+#include "cl/buffer.h"
+#include "cl/device.h"
+#include "image/image.h"
+#include "render/camera.h"
+#include "scene/scene.h"
+#include "sdf_types.h"
+
+namespace sdfbrick::render {
+
+enum class Method { sphere, analytic };                 // in-brick surface search
+enum class NormalMethod { central, tetra, continuous };  // see kernels/sdf_trace.h
+std::string_view to_string(Method m);
+std::string_view to_string(NormalMethod n);
+std::optional<Method> method_from_string(std::string_view s);
+std::optional<NormalMethod> normals_from_string(std::string_view s);
+
+// Every geometry's bricks (construction), their trees and the top level (bvh), and the arrays the
+// tracer reads: one pool for all geometries and a table of SdfBrickGeometry.
+struct SceneBricks {
+    build::BuildSettings settings;
+    std::vector<build::GeometryBuild> builds;
+    bvh::SceneBvh bvh;
+    std::unique_ptr<ocl::Buffer<std::uint8_t>> combined_pool;  // several geometries: their pools, in order
+    std::unique_ptr<ocl::Buffer<SdfBrickGeometry>> geometries;  // one per geometry, then the empty one
+    std::uint64_t bricks = 0;
+    double voxel_world = 0.0;  // the smallest voxel of any object, in world units
+    double build_ms = 0.0;     // construction device time (all geometries)
+
+    const ocl::Buffer<std::uint8_t>& pool() const { return combined_pool ? *combined_pool : *builds.front().pool; }
+};
+
+// Builds the bricks of every geometry of scene (already at its time), then the BVH.
+SceneBricks build_scene_bricks(build::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
+                               const build::BuildSettings& settings);
+
+struct TraceSettings {
+    int width = 1280;
+    int height = 720;
+    Method method = Method::analytic;
+    NormalMethod normals = NormalMethod::continuous;
+    bool shade = false;  // also run the shading kernel (shaded mode)
+    int group_x = 16;    // work-group of the trace and shade kernels
+    int group_y = 8;
+    int shadow_rays = 4;
+    int ao_rays = 8;
+};
+
+struct TraceResult {
+    RenderBuffer buffer;
+    Image colour;            // shaded mode only
+    double trace_ms = 0.0;   // device time of the primary rays
+    double shade_ms = 0.0;   // device time of shading and its secondary rays
+    std::vector<build::Launch> launches;
+};
+
+// Light, penumbra and occlusion radius for the shaded mode, from the scene's light and size.
+SdfShading make_shading(const Scene& scene, const SceneBricks& bricks, const TraceSettings& settings);
+
+class BrickTracer {
+public:
+    explicit BrickTracer(ocl::Device& device);
+    ~BrickTracer();
+    // Traces bricks (built on this tracer's device) with camera; readback of the pixel buffers included.
+    TraceResult render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
+                       const TraceSettings& settings);
+
+private:
+    struct Kernels;
+    Kernels& kernels(const build::BuildSettings& b, const TraceSettings& t);
+    ocl::Device& device_;
+    std::map<std::string, std::unique_ptr<Kernels>> cache_;
+};
+
+}  // namespace sdfbrick::render

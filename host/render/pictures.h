@@ -1,0 +1,24 @@
+// Pictures for people of the brick tracer's per-pixel counters (aux, see kernels/trace.cl).
+#pragma once
+
+#include "image/image.h"
+#include "render/camera.h"
+
+namespace sdfbrick::render {
+
+// Heat map of the work per pixel: BVH node visits + in-brick steps, on a black-blue-red-yellow-white
+// ramp scaled to the image's largest count. Misses are coloured by the work they took, too.
+Image steps_image(const RenderBuffer& b);
+// Each brick in its own colour (a hash of its global index); misses black.
+Image brick_image(const RenderBuffer& b);
+// 1 on hits, 0 on misses (one channel).
+Image mask_image(const RenderBuffer& b);
+
+// Mean BVH node visits and in-brick steps per pixel.
+struct WorkCounts {
+    double node_visits = 0.0;
+    double brick_steps = 0.0;
+};
+WorkCounts work_counts(const RenderBuffer& b);
+
+}  // namespace sdfbrick::render

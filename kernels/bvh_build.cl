@@ -1,0 +1,166 @@
+/* bvh_build.cl: stage "bvh". A linear BVH (Karras 2012, "Maximizing parallelism in the construction of
+ * BVHs, octrees and k-d trees") over leaves that are already sorted by a unique 64-bit key: the leaf
+ * bricks of construction come out in Morton order (children are written in Morton order under their
+ * parent, level by level), so no sort is needed; the host sorts the few instance keys of the top level.
+ *
+ *   bvh_morton_bricks  key of every leaf brick: the Morton code of its lattice coordinate (21 bits per
+ *                      axis), and a flag when the order is not strictly increasing (never expected).
+ *   bvh_hierarchy      n - 1 internal nodes, one work-item each: the node's key range and split, its
+ *                      two children (internal or leaf) and the parent links.
+ *   bvh_refit          bottom-up from every leaf: each node stores its two children's boxes. A node's
+ *                      counter tells the second of its two children to arrive that both boxes are in
+ *                      place; that work-item writes the union into the parent. The union (min/max) does
+ *                      not depend on which child came second, so the tree is the same bit for bit on
+ *                      every run and device: the atomic only counts, it never orders a result.
+ * Node i's children: child[c] >= 0 is internal node child[c] (+ node_offset in the shared array),
+ * child[c] < 0 is leaf ~child[c]. */
+#include "sdf_types.h"
+
+#define NO_PARENT 0xFFFFFFFFu
+
+/* Spreads the low 21 bits of v two bits apart (bit i -> bit 3i). */
+inline ulong bvh_spread21(uint v) {
+    ulong x = (ulong)(v & 0x1FFFFFu);
+    x = (x | (x << 32)) & 0x1F00000000FFFFUL;
+    x = (x | (x << 16)) & 0x1F0000FF0000FFUL;
+    x = (x | (x << 8)) & 0x100F00F00F00F00FUL;
+    x = (x | (x << 4)) & 0x10C30C30C30C30C3UL;
+    x = (x | (x << 2)) & 0x1249249249249249UL;
+    return x;
+}
+
+#define BVH_FLAG_UNSORTED 1u
+#define BVH_FLAG_TOO_LARGE 2u
+
+inline ulong bvh_brick_key(__global const SdfBrick* b) {
+    return bvh_spread21((uint)b->coord[0]) | (bvh_spread21((uint)b->coord[1]) << 1) |
+           (bvh_spread21((uint)b->coord[2]) << 2);
+}
+
+/* flags: BVH_FLAG_UNSORTED when a key is not above the previous one, BVH_FLAG_TOO_LARGE when a
+ * coordinate needs more than 21 bits (atomic_or sets flags: the result does not depend on order). */
+__kernel void bvh_morton_bricks(__global const SdfBrick* bricks, uint n, __global ulong* keys, __global uint* flags) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    const ulong key = bvh_brick_key(bricks + i);
+    keys[i] = key;
+    if ((uint)(bricks[i].coord[0] | bricks[i].coord[1] | bricks[i].coord[2]) >= (1u << 21)) atomic_or(flags, BVH_FLAG_TOO_LARGE);
+    if (i > 0 && bvh_brick_key(bricks + i - 1) >= key) atomic_or(flags, BVH_FLAG_UNSORTED);
+}
+
+/* Length of the common prefix of keys i and j; -1 when j is outside [0, n). */
+inline int bvh_delta(__global const ulong* keys, int n, int i, int j) {
+    if (j < 0 || j >= n) return -1;
+    return (int)clz(keys[i] ^ keys[j]);
+}
+
+__kernel void bvh_hierarchy(__global const ulong* keys, uint n_leaves, uint node_offset,
+                            __global SdfBvhNode* nodes, __global uint* node_parent, __global uint* leaf_parent) {
+    const int i = (int)get_global_id(0);
+    const int n = (int)n_leaves;
+    if (i >= n - 1) return;
+    /* direction of the range, and its other end j */
+    const int d = bvh_delta(keys, n, i, i + 1) - bvh_delta(keys, n, i, i - 1) > 0 ? 1 : -1;
+    const int delta_min = bvh_delta(keys, n, i, i - d);
+    int l_max = 2;
+    while (bvh_delta(keys, n, i, i + l_max * d) > delta_min) l_max *= 2;
+    int l = 0;
+    for (int t = l_max / 2; t >= 1; t /= 2) {
+        if (bvh_delta(keys, n, i, i + (l + t) * d) > delta_min) l += t;
+    }
+    const int j = i + l * d;
+    /* split: the last key of the range that shares more than delta_node bits with key i */
+    const int delta_node = bvh_delta(keys, n, i, j);
+    int s = 0;
+    int t = l;
+    do {
+        t = (t + 1) / 2;
+        if (bvh_delta(keys, n, i, i + (s + t) * d) > delta_node) s += t;
+    } while (t > 1);
+    const int split = i + s * d + min(d, 0);
+    const int lo = min(i, j), hi = max(i, j);
+
+    SdfBvhNode node;
+    for (int a = 0; a < 3; ++a) {
+        node.lo0[a] = node.lo1[a] = INFINITY;
+        node.hi0[a] = node.hi1[a] = -INFINITY;
+    }
+    node.pad[0] = node.pad[1] = 0u;
+    const uint me = node_offset + (uint)i;
+    if (lo == split) {
+        node.child[0] = ~split;
+        leaf_parent[split] = me;
+    } else {
+        node.child[0] = (int)(node_offset + (uint)split);
+        node_parent[split] = me;
+    }
+    if (hi == split + 1) {
+        node.child[1] = ~(split + 1);
+        leaf_parent[split + 1] = me;
+    } else {
+        node.child[1] = (int)(node_offset + (uint)(split + 1));
+        node_parent[split + 1] = me;
+    }
+    nodes[me] = node;
+    if (i == 0) node_parent[0] = NO_PARENT;
+}
+
+/* Writes box into slot c of node (plain stores), or reads both slots of node (volatile loads, so that
+ * a sibling's box written by another work-item is read from memory, not from a stale cache line). */
+inline void bvh_store_slot(__global SdfBvhNode* node, int c, const float lo[3], const float hi[3]) {
+    __global float* f = (__global float*)node + 6 * c;
+    for (int a = 0; a < 3; ++a) {
+        f[a] = lo[a];
+        f[3 + a] = hi[a];
+    }
+}
+
+__kernel void bvh_refit(__global const SdfBounds* leaf_boxes, uint n_leaves, uint node_offset,
+                        __global SdfBvhNode* nodes, __global const uint* node_parent,
+                        __global const uint* leaf_parent, __global uint* arrivals, __global SdfBounds* root_boxes,
+                        uint root_slot) {
+    __global SdfBounds* root_box = root_boxes + root_slot;
+    const uint i = get_global_id(0);
+    if (i >= n_leaves) return;
+    const SdfBounds leaf = leaf_boxes[i];
+    float lo[3] = {leaf.lo[0], leaf.lo[1], leaf.lo[2]};
+    float hi[3] = {leaf.hi[0], leaf.hi[1], leaf.hi[2]};
+    if (n_leaves == 1u) { /* no internal node: a root whose two children are this leaf */
+        SdfBvhNode root;
+        for (int a = 0; a < 3; ++a) {
+            root.lo0[a] = root.lo1[a] = lo[a];
+            root.hi0[a] = root.hi1[a] = hi[a];
+        }
+        root.child[0] = root.child[1] = ~0;
+        root.pad[0] = root.pad[1] = 0u;
+        nodes[node_offset] = root;
+        *root_box = leaf;
+        return;
+    }
+    int child = ~(int)i;
+    uint node = leaf_parent[i];
+    for (;;) {
+        const int c = nodes[node].child[0] == child ? 0 : 1;
+        bvh_store_slot(nodes + node, c, lo, hi);
+        mem_fence(CLK_GLOBAL_MEM_FENCE);
+        if (atomic_inc(&arrivals[node - node_offset]) == 0u) return; /* the sibling finishes this node */
+        mem_fence(CLK_GLOBAL_MEM_FENCE);
+        volatile __global const float* f = (volatile __global const float*)(nodes + node);
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = fmin(f[a], f[6 + a]);
+            hi[a] = fmax(f[3 + a], f[9 + a]);
+        }
+        const uint parent = node_parent[node - node_offset];
+        if (parent == NO_PARENT) {
+            SdfBounds box;
+            for (int a = 0; a < 3; ++a) {
+                box.lo[a] = lo[a];
+                box.hi[a] = hi[a];
+            }
+            *root_box = box;
+            return;
+        }
+        child = (int)node;
+        node = parent;
+    }
+}

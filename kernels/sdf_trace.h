@@ -1,0 +1,424 @@
+/* sdf_trace.h: rays through the two-level BVH of bricks (DESIGN.md section 3), shared by the primary
+ * tracer and the shading kernel's secondary rays.
+ *
+ * Compile-time: SAMPLES (8 or 10), APRON (1 or 2), FORMAT (0 int8, 1 int16, 2 float), METHOD (0 sphere
+ * tracing over trilinear samples, 1 analytic: the cubic of the trilinear cell, roots isolated as in
+ * Marmitt et al. 2004), NORMALS (0 central differences, 1 tetrahedron, 2 continuous: per-sample
+ * gradients interpolated trilinearly).
+ *
+ * Frames. A world ray (o, d), |d| = 1, maps into an instance's geometry frame as (M (o - T), M d); the
+ * parameter t is shared, and a geometry-frame length L corresponds to L * len_scale in t, where
+ * len_scale = 1 / |M d|. In a brick, positions are in sample space: s = (p - brick_min) / voxel +
+ * APRON - 0.5, so sample (i, j, k) sits at s = (i, j, k) and the trilinear cell c spans [c, c + 1]. The
+ * interior of the brick is s in [APRON - 0.5, SAMPLES - APRON + 0.5]; neighbouring bricks compute the
+ * samples they share from the same lattice points, so the field is continuous from brick to brick.
+ *
+ * Hits. The surface is the first t where the trilinear field is <= 0. A ray that enters a brick
+ * already inside the solid hits at the entry. Bricks are visited near first and a brick is only
+ * searched up to the nearest hit found so far, so the result is the nearest hit whatever the order. */
+#ifndef SDFBRICK_SDF_TRACE_H
+#define SDFBRICK_SDF_TRACE_H
+
+#include "sdf_types.h"
+
+#define S SAMPLES
+#define S3 (SAMPLES * SAMPLES * SAMPLES)
+#define BVH_STACK 64              /* a radix tree over 63-bit keys is at most 63 deep */
+#define SPHERE_EPS 0.01f          /* sphere tracing: hit when the field is below this many voxels */
+#define SPHERE_MAX_STEPS 64       /* sphere tracing: steps per brick */
+#define ROOT_ITERATIONS 8         /* analytic: regula falsi (Illinois) iterations per root */
+
+#if FORMAT == 0
+typedef char sample_t;
+#elif FORMAT == 1
+typedef short sample_t;
+#else
+typedef float sample_t;
+#endif
+
+inline float tr_dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline float3 tr_normalize(float3 a) {
+    const float l = sqrt(tr_dot(a, a));
+    return l > 0.0f ? a / l : (float3)(0.0f);
+}
+inline float tr_lerp(float a, float b, float t) { return a + (b - a) * t; }
+inline float tr_max3(float3 a) { return fmax(fmax(a.x, a.y), a.z); }
+inline float tr_min3(float3 a) { return fmin(fmin(a.x, a.y), a.z); }
+
+/* 1 / d with zero components replaced by a tiny value of the same sign (no 0 * inf = NaN in slabs). */
+inline float3 tr_inverse(float3 d) {
+    const float tiny = 1e-20f;
+    return (float3)(1.0f / (fabs(d.x) < tiny ? copysign(tiny, d.x) : d.x),
+                    1.0f / (fabs(d.y) < tiny ? copysign(tiny, d.y) : d.y),
+                    1.0f / (fabs(d.z) < tiny ? copysign(tiny, d.z) : d.z));
+}
+
+/* Slab test of the box [lo, hi] against the ray segment [t0, t1]: returns the entry, sets *exit. */
+inline float tr_slab(float3 lo, float3 hi, float3 o, float3 inv_d, float t0, float t1, float* exit) {
+    const float3 a = (lo - o) * inv_d, b = (hi - o) * inv_d;
+    *exit = fmin(tr_min3(fmax(a, b)), t1);
+    return fmax(tr_max3(fmin(a, b)), t0);
+}
+
+/* ---- the field inside one brick ---- */
+
+inline float tr_sample(__global const sample_t* brick, int i, int j, int k) {
+    return (float)brick[i + S * (j + S * k)];
+}
+
+/* Trilinear value (stored units) at sample-space point s, clamped to the brick's samples. */
+inline float tr_field(__global const sample_t* brick, float3 s) {
+    s = clamp(s, (float3)(0.0f), (float3)((float)(S - 1)));
+    const int3 c = min(convert_int3(floor(s)), (int3)(S - 2));
+    const float3 f = s - convert_float3(c);
+    const float c00 = tr_lerp(tr_sample(brick, c.x, c.y, c.z), tr_sample(brick, c.x + 1, c.y, c.z), f.x);
+    const float c10 = tr_lerp(tr_sample(brick, c.x, c.y + 1, c.z), tr_sample(brick, c.x + 1, c.y + 1, c.z), f.x);
+    const float c01 = tr_lerp(tr_sample(brick, c.x, c.y, c.z + 1), tr_sample(brick, c.x + 1, c.y, c.z + 1), f.x);
+    const float c11 =
+        tr_lerp(tr_sample(brick, c.x, c.y + 1, c.z + 1), tr_sample(brick, c.x + 1, c.y + 1, c.z + 1), f.x);
+    return tr_lerp(tr_lerp(c00, c10, f.y), tr_lerp(c01, c11, f.y), f.z);
+}
+
+#if NORMALS == 2
+/* Gradient at sample (i, j, k) by central differences of the samples (one-sided at the brick's edge). */
+inline float3 tr_sample_gradient(__global const sample_t* brick, int i, int j, int k) {
+    const int i0 = max(i - 1, 0), i1 = min(i + 1, S - 1);
+    const int j0 = max(j - 1, 0), j1 = min(j + 1, S - 1);
+    const int k0 = max(k - 1, 0), k1 = min(k + 1, S - 1);
+    return (float3)((tr_sample(brick, i1, j, k) - tr_sample(brick, i0, j, k)) / (float)(i1 - i0),
+                    (tr_sample(brick, i, j1, k) - tr_sample(brick, i, j0, k)) / (float)(j1 - j0),
+                    (tr_sample(brick, i, j, k1) - tr_sample(brick, i, j, k0)) / (float)(k1 - k0));
+}
+#endif
+
+/* Field gradient (sample space, any scale) at s, by the method NORMALS. */
+inline float3 tr_gradient(__global const sample_t* brick, float3 s) {
+#if NORMALS == 0
+    const float h = 0.5f;
+    return (float3)(tr_field(brick, s + (float3)(h, 0.0f, 0.0f)) - tr_field(brick, s - (float3)(h, 0.0f, 0.0f)),
+                    tr_field(brick, s + (float3)(0.0f, h, 0.0f)) - tr_field(brick, s - (float3)(0.0f, h, 0.0f)),
+                    tr_field(brick, s + (float3)(0.0f, 0.0f, h)) - tr_field(brick, s - (float3)(0.0f, 0.0f, h)));
+#elif NORMALS == 1
+    const float h = 0.5f;
+    const float3 k0 = (float3)(1.0f, -1.0f, -1.0f), k1 = (float3)(-1.0f, -1.0f, 1.0f);
+    const float3 k2 = (float3)(-1.0f, 1.0f, -1.0f), k3 = (float3)(1.0f, 1.0f, 1.0f);
+    return k0 * tr_field(brick, s + h * k0) + k1 * tr_field(brick, s + h * k1) + k2 * tr_field(brick, s + h * k2) +
+           k3 * tr_field(brick, s + h * k3);
+#else
+    s = clamp(s, (float3)(0.0f), (float3)((float)(S - 1)));
+    const int3 c = min(convert_int3(floor(s)), (int3)(S - 2));
+    const float3 f = s - convert_float3(c);
+    float3 g[8];
+    for (int n = 0; n < 8; ++n) g[n] = tr_sample_gradient(brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2));
+    const float3 gx0 = g[0] + (g[1] - g[0]) * f.x, gx1 = g[2] + (g[3] - g[2]) * f.x;
+    const float3 gx2 = g[4] + (g[5] - g[4]) * f.x, gx3 = g[6] + (g[7] - g[6]) * f.x;
+    const float3 gy0 = gx0 + (gx1 - gx0) * f.y, gy1 = gx2 + (gx3 - gx2) * f.y;
+    return gy0 + (gy1 - gy0) * f.z;
+#endif
+}
+
+#if METHOD == 1
+/* The trilinear field of cell c along s(u) = a + u * b (u in cell units of the ray) as the cubic
+ * k[3] u^3 + k[2] u^2 + k[1] u + k[0]: the product of the three linear weights, summed over the corners. */
+inline float4 tr_cell_cubic(__global const sample_t* brick, int3 c, float3 a, float3 b) {
+    float4 k = (float4)(0.0f);
+    for (int n = 0; n < 8; ++n) {
+        const int dx = n & 1, dy = (n >> 1) & 1, dz = n >> 2;
+        const float v = tr_sample(brick, c.x + dx, c.y + dy, c.z + dz);
+        /* weight along an axis: corner 0 -> (1 - a) - u b, corner 1 -> a + u b */
+        const float ax = dx ? a.x : 1.0f - a.x, bx = dx ? b.x : -b.x;
+        const float ay = dy ? a.y : 1.0f - a.y, by = dy ? b.y : -b.y;
+        const float az = dz ? a.z : 1.0f - a.z, bz = dz ? b.z : -b.z;
+        k.s0 += v * (ax * ay * az);
+        k.s1 += v * (bx * ay * az + ax * by * az + ax * ay * bz);
+        k.s2 += v * (bx * by * az + bx * ay * bz + ax * by * bz);
+        k.s3 += v * (bx * by * bz);
+    }
+    return k;
+}
+
+inline float tr_cubic(float4 k, float u) { return ((k.s3 * u + k.s2) * u + k.s1) * u + k.s0; }
+
+/* First root of the cubic in [u0, u1] where f(u0) > 0 >= f(u1): Illinois regula falsi, fixed count. */
+inline float tr_root(float4 k, float u0, float f0, float u1, float f1) {
+    int side = 0;
+    for (int it = 0; it < ROOT_ITERATIONS; ++it) {
+        const float u = u0 + (u1 - u0) * (f0 / (f0 - f1));
+        const float f = tr_cubic(k, u);
+        if (f > 0.0f) {
+            u0 = u;
+            f0 = f;
+            if (side == -1) f1 *= 0.5f;
+            side = -1;
+        } else {
+            u1 = u;
+            f1 = f;
+            if (side == 1) f0 *= 0.5f;
+            side = 1;
+        }
+    }
+    return u0 + (u1 - u0) * (f0 / (f0 - f1));
+}
+
+/* First u in [0, len] where the cubic is <= 0, or -1: the interval is cut at the roots of the
+ * derivative, and the first piece that ends at or below zero holds the root. */
+inline float tr_cubic_first_root(float4 k, float len) {
+    float cuts[4];
+    int n = 0;
+    cuts[n++] = 0.0f;
+    const float qa = 3.0f * k.s3, qb = 2.0f * k.s2, qc = k.s1;
+    if (qa != 0.0f) {
+        const float disc = qb * qb - 4.0f * qa * qc;
+        if (disc >= 0.0f) {
+            const float r = sqrt(disc);
+            float e0 = (-qb - r) / (2.0f * qa), e1 = (-qb + r) / (2.0f * qa);
+            if (e0 > e1) {
+                const float t = e0;
+                e0 = e1;
+                e1 = t;
+            }
+            if (e0 > 0.0f && e0 < len) cuts[n++] = e0;
+            if (e1 > 0.0f && e1 < len && e1 != e0) cuts[n++] = e1;
+        }
+    } else if (qb != 0.0f) {
+        const float e = -qc / qb;
+        if (e > 0.0f && e < len) cuts[n++] = e;
+    }
+    cuts[n++] = len;
+    float u0 = cuts[0], f0 = tr_cubic(k, u0);
+    if (f0 <= 0.0f) return u0;
+    for (int i = 1; i < n; ++i) {
+        const float u1 = cuts[i], f1 = tr_cubic(k, u1);
+        if (f1 <= 0.0f) return tr_root(k, u0, f0, u1, f1);
+        u0 = u1;
+        f0 = f1;
+    }
+    return -1.0f;
+}
+#endif
+
+/* Searches one brick for the surface on the ray segment [t0, t1]: returns the hit t or -1.
+ * o, d: the ray in the geometry frame; lo: the brick's minimum corner. */
+inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float3 d, float t0, float t1,
+                      float inv_voxel, float len_scale, float voxel_to_stored, uint* steps) {
+    const float3 s0 = (o + t0 * d - lo) * inv_voxel + (float)APRON - 0.5f;
+    const float3 ds = d * inv_voxel;
+#if METHOD == 0
+    /* Sphere tracing: the field (stored units, to voxels by 1 / voxel_to_stored) bounds the step. */
+    const float to_t = len_scale / (inv_voxel * voxel_to_stored); /* stored units -> t */
+    const float eps = SPHERE_EPS * voxel_to_stored;
+    float t = t0, t_prev = t0, f_prev = 0.0f;
+    for (int i = 0; i < SPHERE_MAX_STEPS; ++i) {
+        const float f = tr_field(brick, s0 + (t - t0) * ds);
+        ++*steps;
+        if (f <= eps) {
+            if (f < 0.0f && i > 0) return t_prev + (t - t_prev) * (f_prev / (f_prev - f)); /* overshot: secant */
+            return t;
+        }
+        t_prev = t;
+        f_prev = f;
+        t += f * to_t;
+        if (t > t1) return -1.0f;
+    }
+    return -1.0f;
+#else
+    /* Analytic: walk the trilinear cells in sample space (a 3D DDA) and solve each cell's cubic. */
+    const float3 inv_ds = tr_inverse(ds);
+    int3 c = clamp(convert_int3(floor(s0)), (int3)(0), (int3)(S - 2));
+    const int3 step = (int3)(ds.x >= 0.0f ? 1 : -1, ds.y >= 0.0f ? 1 : -1, ds.z >= 0.0f ? 1 : -1);
+    const float span = t1 - t0;
+    float u = 0.0f; /* t - t0 */
+    for (int i = 0; i < 3 * S; ++i) {
+        const float3 next = convert_float3(c + max(step, (int3)(0)));
+        const float3 exit_u = (next - s0) * inv_ds;
+        const float u_exit = fmin(tr_min3(exit_u), span);
+        ++*steps;
+        /* corners all above zero: no root in this cell */
+        float vmin = INFINITY;
+        for (int n = 0; n < 8; ++n) vmin = fmin(vmin, tr_sample(brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2)));
+        if (vmin <= 0.0f && u_exit >= u) {
+            const float3 a = s0 + u * ds - convert_float3(c);
+            const float4 k = tr_cell_cubic(brick, c, a, ds);
+            const float r = tr_cubic_first_root(k, u_exit - u);
+            if (r >= 0.0f) return t0 + u + r;
+        }
+        if (u_exit >= span) break;
+        u = u_exit;
+        if (exit_u.x <= exit_u.y && exit_u.x <= exit_u.z) c.x += step.x;
+        else if (exit_u.y <= exit_u.z) c.y += step.y;
+        else c.z += step.z;
+        if (any(c < (int3)(0)) || any(c > (int3)(S - 2))) break;
+    }
+    return -1.0f;
+#endif
+}
+
+/* ---- traversal ---- */
+
+/* The scene's bricks and trees, as kernel arguments pass them. */
+typedef struct TraceScene {
+    __global const SdfBvhNode* tlas;
+    __global const SdfInstance* instances;
+    __global const SdfBrickGeometry* geometries;
+    __global const SdfBvhNode* nodes;
+    __global const sample_t* pool;
+} TraceScene;
+
+typedef struct TraceHit {
+    float t;         /* < 0: no hit */
+    uint brick;      /* global brick index */
+    uint instance;
+    float3 lo;       /* the brick's minimum corner (geometry frame) */
+    float3 o, d;     /* the ray in that instance's geometry frame */
+    uint visits;     /* BVH nodes visited (both levels) */
+    uint steps;      /* in-brick steps or cells */
+} TraceHit;
+
+/* One node's two children against the ray segment [t_min, t_far]: entries n, exits x, boxes' minimum
+ * corners, child indices, and whether each is hit (a repeated child counts once). */
+typedef struct TraceChildren {
+    float n[2], x[2];
+    float3 lo[2];
+    int c[2];
+    int h[2];
+} TraceChildren;
+
+inline TraceChildren tr_visit(__global const SdfBvhNode* nodes, uint i, float3 o, float3 inv_d, float t_min,
+                              float t_far) {
+    __global const float4* v = (__global const float4*)(nodes + i);
+    const float4 a = v[0], b = v[1], c = v[2];
+    const int4 e = as_int4(v[3]);
+    TraceChildren ch;
+    ch.lo[0] = a.xyz;
+    ch.lo[1] = (float3)(b.z, b.w, c.x);
+    ch.n[0] = tr_slab(ch.lo[0], (float3)(a.w, b.x, b.y), o, inv_d, t_min, t_far, &ch.x[0]);
+    ch.n[1] = tr_slab(ch.lo[1], c.yzw, o, inv_d, t_min, t_far, &ch.x[1]);
+    ch.c[0] = e.x;
+    ch.c[1] = e.y;
+    ch.h[0] = ch.n[0] <= ch.x[0];
+    ch.h[1] = ch.n[1] <= ch.x[1] && e.y != e.x;
+    return ch;
+}
+
+/* The order to handle a node's children in: 1 when child 1 is the nearer. */
+inline int tr_near1(const TraceChildren* ch) { return ch->h[0] && ch->h[1] && ch->n[1] < ch->n[0]; }
+
+/* After the leaf children are handled (their h cleared): descends into the nearer internal child that
+ * is still in front of bound (pushing the other), or pops the next node still in front of bound.
+ * Returns 0 when the tree is done. */
+inline int tr_next(const TraceChildren* ch, float bound, uint* stack, float* stack_t, int* sp, uint* node) {
+    const int h0 = ch->h[0] && ch->n[0] <= bound, h1 = ch->h[1] && ch->n[1] <= bound;
+    if (h0 && h1) {
+        const int near1 = ch->n[1] < ch->n[0];
+        stack[*sp] = (uint)ch->c[near1 ? 0 : 1];
+        stack_t[*sp] = ch->n[near1 ? 0 : 1];
+        ++*sp;
+        *node = (uint)ch->c[near1];
+        return 1;
+    }
+    if (h0 || h1) {
+        *node = (uint)ch->c[h0 ? 0 : 1];
+        return 1;
+    }
+    while (*sp > 0) {
+        --*sp;
+        if (stack_t[*sp] <= bound) {
+            *node = stack[*sp];
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The far end of the search: t_max, or the nearest hit so far. */
+inline float tr_bound(const TraceHit* hit, float t_max) { return hit->t < 0.0f ? t_max : fmin(hit->t, t_max); }
+
+/* Nearer hit than hit->t (any_hit: any hit) in [t_min, t_max] among one geometry's bricks. */
+inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, float3 o, float3 d, float t_min,
+                    float t_max, float len_scale, int any_hit, TraceHit* hit) {
+    const float3 inv_d = tr_inverse(d);
+    const float voxel_to_stored = g.voxel / g.dequant;
+    uint stack[BVH_STACK];
+    float stack_t[BVH_STACK];
+    int sp = 0;
+    uint node = g.root;
+    TraceChildren ch;
+    do {
+        ch = tr_visit(sc->nodes, node, o, inv_d, t_min, tr_bound(hit, t_max));
+        ++hit->visits;
+        const int near1 = tr_near1(&ch);
+        for (int k = 0; k < 2; ++k) { /* leaf children: search their bricks now, the nearer first */
+            const int w = k ^ near1;
+            if (ch.c[w] >= 0 || !ch.h[w]) continue;
+            ch.h[w] = 0;
+            const float limit = fmin(ch.x[w], tr_bound(hit, t_max));
+            if (ch.n[w] > limit) continue;
+            const uint b = g.brick_offset + (uint)(~ch.c[w]);
+            const float t = tr_brick(sc->pool + (size_t)b * S3, ch.lo[w], o, d, ch.n[w], limit, g.inv_voxel,
+                                     len_scale, voxel_to_stored, &hit->steps);
+            if (t >= 0.0f && (hit->t < 0.0f || t < hit->t)) {
+                hit->t = t;
+                hit->brick = b;
+                hit->instance = instance;
+                hit->lo = ch.lo[w];
+                hit->o = o;
+                hit->d = d;
+                if (any_hit) return;
+            }
+        }
+    } while (tr_next(&ch, tr_bound(hit, t_max), stack, stack_t, &sp, &node));
+}
+
+/* Nearest hit (with any_hit: any hit) of the world ray o + t d, t in [t_min, t_max]: the top level
+ * over instances, then each instance's bricks in its geometry frame. */
+inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, float t_max, int any_hit) {
+    TraceHit hit;
+    hit.t = -1.0f;
+    hit.brick = SDF_NO_BRICK;
+    hit.instance = 0u;
+    hit.visits = 0u;
+    hit.steps = 0u;
+    hit.lo = hit.o = hit.d = (float3)(0.0f);
+    const float3 inv_d = tr_inverse(d);
+    uint stack[BVH_STACK];
+    float stack_t[BVH_STACK];
+    int sp = 0;
+    uint node = 0u;
+    TraceChildren ch;
+    do {
+        ch = tr_visit(sc->tlas, node, o, inv_d, t_min, tr_bound(&hit, t_max));
+        ++hit.visits;
+        const int near1 = tr_near1(&ch);
+        for (int k = 0; k < 2; ++k) {
+            const int w = k ^ near1;
+            if (ch.c[w] >= 0 || !ch.h[w]) continue;
+            ch.h[w] = 0;
+            const uint inst = (uint)(~ch.c[w]);
+            const SdfInstance in = sc->instances[inst];
+            const SdfBrickGeometry g = sc->geometries[in.geometry];
+            if (g.root == SDF_NO_NODE || ch.n[w] > tr_bound(&hit, t_max)) continue;
+            const float* m = in.world_to_geometry;
+            const float3 r0 = (float3)(m[0], m[1], m[2]), r1 = (float3)(m[3], m[4], m[5]), r2 = (float3)(m[6], m[7], m[8]);
+            const float3 q = o - (float3)(in.translation[0], in.translation[1], in.translation[2]);
+            const float3 og = (float3)(tr_dot(r0, q), tr_dot(r1, q), tr_dot(r2, q));
+            const float3 dg = (float3)(tr_dot(r0, d), tr_dot(r1, d), tr_dot(r2, d));
+            tr_blas(sc, g, inst, og, dg, t_min, t_max, 1.0f / sqrt(tr_dot(dg, dg)), any_hit, &hit);
+            if (any_hit && hit.t >= 0.0f) return hit;
+        }
+    } while (tr_next(&ch, tr_bound(&hit, t_max), stack, stack_t, &sp, &node));
+    return hit;
+}
+
+/* World unit normal at a hit (by the method NORMALS). */
+inline float3 tr_normal(const TraceScene* sc, const TraceHit* hit) {
+    const SdfInstance in = sc->instances[hit->instance];
+    const SdfBrickGeometry g = sc->geometries[in.geometry];
+    const float3 s = (hit->o + hit->t * hit->d - hit->lo) * g.inv_voxel + (float)APRON - 0.5f;
+    const float3 n = tr_gradient(sc->pool + (size_t)hit->brick * S3, s);
+    const float* m = in.world_to_geometry;
+    /* world = M^T n */
+    return tr_normalize((float3)(m[0] * n.x + m[3] * n.y + m[6] * n.z, m[1] * n.x + m[4] * n.y + m[7] * n.z,
+                                 m[2] * n.x + m[5] * n.y + m[8] * n.z));
+}
+
+#endif /* SDFBRICK_SDF_TRACE_H */
