@@ -6,7 +6,10 @@
 #define SDF_OFF(obj, field) ((uint)((__global const char*)&(obj)->field - (__global const char*)(obj)))
 
 __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBounds* bounds,
-                           __global const SdfBrick* brick, __global uint* out) {
+                           __global const SdfBrick* brick, __global const SdfCamera* camera,
+                           __global const SdfBvhNode* node, __global const SdfInstance* instance,
+                           __global const SdfBrickGeometry* geometry, __global const SdfShading* shading,
+                           __global uint* out) {
     if (get_global_id(0) != 0) return;
     uint n = 0;
     out[n++] = (uint)sizeof(SdfTransform);
@@ -28,5 +31,32 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
     out[n++] = SDF_OFF(brick, edit_offset);
     out[n++] = SDF_OFF(brick, edit_count);
     out[n++] = SDF_OFF(brick, child_mask);
+    out[n++] = (uint)sizeof(SdfCamera);
+    out[n++] = SDF_OFF(camera, forward);
+    out[n++] = SDF_OFF(camera, right);
+    out[n++] = SDF_OFF(camera, up);
+    out[n++] = SDF_OFF(camera, width);
+    out[n++] = SDF_OFF(camera, height);
+    out[n++] = (uint)sizeof(SdfBvhNode);
+    out[n++] = SDF_OFF(node, hi0);
+    out[n++] = SDF_OFF(node, lo1);
+    out[n++] = SDF_OFF(node, hi1);
+    out[n++] = SDF_OFF(node, child);
+    out[n++] = (uint)sizeof(SdfInstance);
+    out[n++] = SDF_OFF(instance, translation);
+    out[n++] = SDF_OFF(instance, scale);
+    out[n++] = SDF_OFF(instance, geometry);
+    out[n++] = (uint)sizeof(SdfBrickGeometry);
+    out[n++] = SDF_OFF(geometry, inv_voxel);
+    out[n++] = SDF_OFF(geometry, dequant);
+    out[n++] = SDF_OFF(geometry, root);
+    out[n++] = SDF_OFF(geometry, brick_offset);
+    out[n++] = (uint)sizeof(SdfShading);
+    out[n++] = SDF_OFF(shading, light_color);
+    out[n++] = SDF_OFF(shading, shadow_spread);
+    out[n++] = SDF_OFF(shading, ao_radius);
+    out[n++] = SDF_OFF(shading, ray_offset);
+    out[n++] = SDF_OFF(shading, shadow_rays);
+    out[n++] = SDF_OFF(shading, ao_rays);
     out[n++] = 0xC0FFEEu; /* end marker: the host checks it to know the list was not cut short */
 }

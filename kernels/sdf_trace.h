@@ -14,7 +14,8 @@
  * samples they share from the same lattice points, so the field is continuous from brick to brick.
  *
  * Hits. The surface is the first t where the trilinear field is <= 0. A ray that enters a brick
- * already inside the solid hits at the entry. Bricks are visited near first and a brick is only
+ * already inside the solid hits at the entry (a camera inside the solid sees the inner side of the
+ * band around it). Bricks are visited near first and a brick is only
  * searched up to the nearest hit found so far, so the result is the nearest hit whatever the order. */
 #ifndef SDFBRICK_SDF_TRACE_H
 #define SDFBRICK_SDF_TRACE_H
@@ -409,14 +410,16 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
     return hit;
 }
 
-/* World unit normal at a hit (by the method NORMALS). */
-inline float3 tr_normal(const TraceScene* sc, const TraceHit* hit) {
+/* World unit normal at a hit (by the method NORMALS); -d where the stored field is flat (a ray that
+ * entered a brick deep inside the solid, where every sample is -band). */
+inline float3 tr_normal(const TraceScene* sc, const TraceHit* hit, float3 d) {
     const SdfInstance in = sc->instances[hit->instance];
     const SdfBrickGeometry g = sc->geometries[in.geometry];
     const float3 s = (hit->o + hit->t * hit->d - hit->lo) * g.inv_voxel + (float)APRON - 0.5f;
     const float3 n = tr_gradient(sc->pool + (size_t)hit->brick * S3, s);
     const float* m = in.world_to_geometry;
     /* world = M^T n */
+    if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) return -d;
     return tr_normalize((float3)(m[0] * n.x + m[3] * n.y + m[6] * n.z, m[1] * n.x + m[4] * n.y + m[7] * n.z,
                                  m[2] * n.x + m[5] * n.y + m[8] * n.z));
 }

@@ -18,11 +18,12 @@ __kernel void trace_primary(__global const SdfCamera* camera, __global const Sdf
     sc.geometries = geometries;
     sc.nodes = nodes;
     sc.pool = pool;
-    const TraceHit hit = tr_trace(&sc, sdf_camera_eye(&cam), sdf_camera_dir(&cam, x, y), 0.0f, INFINITY, 0);
+    const float3 d = sdf_camera_dir(&cam, x, y);
+    const TraceHit hit = tr_trace(&sc, sdf_camera_eye(&cam), d, 0.0f, INFINITY, 0);
     const size_t i = (size_t)y * cam.width + x;
     const uint counters = min(hit.visits, 65535u) | (min(hit.steps, 65535u) << 16);
     if (hit.t >= 0.0f) {
-        const float3 n = tr_normal(&sc, &hit);
+        const float3 n = tr_normal(&sc, &hit, d);
         out_hit[i] = (float4)(n, hit.t);
         out_aux[i] = (uint2)(hit.brick, counters);
     } else {

@@ -35,6 +35,33 @@ std::vector<cl_uint> host_layout() {
             offsetof(SdfBrick, edit_offset),
             offsetof(SdfBrick, edit_count),
             offsetof(SdfBrick, child_mask),
+            sizeof(SdfCamera),
+            offsetof(SdfCamera, forward),
+            offsetof(SdfCamera, right),
+            offsetof(SdfCamera, up),
+            offsetof(SdfCamera, width),
+            offsetof(SdfCamera, height),
+            sizeof(SdfBvhNode),
+            offsetof(SdfBvhNode, hi0),
+            offsetof(SdfBvhNode, lo1),
+            offsetof(SdfBvhNode, hi1),
+            offsetof(SdfBvhNode, child),
+            sizeof(SdfInstance),
+            offsetof(SdfInstance, translation),
+            offsetof(SdfInstance, scale),
+            offsetof(SdfInstance, geometry),
+            sizeof(SdfBrickGeometry),
+            offsetof(SdfBrickGeometry, inv_voxel),
+            offsetof(SdfBrickGeometry, dequant),
+            offsetof(SdfBrickGeometry, root),
+            offsetof(SdfBrickGeometry, brick_offset),
+            sizeof(SdfShading),
+            offsetof(SdfShading, light_color),
+            offsetof(SdfShading, shadow_spread),
+            offsetof(SdfShading, ao_radius),
+            offsetof(SdfShading, ray_offset),
+            offsetof(SdfShading, shadow_rays),
+            offsetof(SdfShading, ao_rays),
             0xC0FFEEu};
 }
 
@@ -43,6 +70,12 @@ TEST(Layout, HostSizesHaveNoPadding) {
     static_assert(sizeof(SdfEdit) == 16 * 4);
     static_assert(sizeof(SdfBounds) == 6 * 4);
     static_assert(sizeof(SdfBrick) == 8 * 4);
+    static_assert(sizeof(SdfCamera) == 14 * 4);
+    static_assert(sizeof(SdfBvhNode) == 16 * 4);  // four 16-byte loads in sdf_trace.h
+    static_assert(offsetof(SdfBvhNode, child) == 48);
+    static_assert(sizeof(SdfInstance) == 16 * 4);
+    static_assert(sizeof(SdfBrickGeometry) == 8 * 4);
+    static_assert(sizeof(SdfShading) == 12 * 4);
     static_assert(alignof(SdfEdit) == 4 && alignof(SdfBrick) == 4);
 }
 
@@ -54,15 +87,28 @@ TEST(Layout, DeviceMatchesHost) {
     ocl::Buffer<SdfEdit> edit(device, 1);
     ocl::Buffer<SdfBounds> bounds(device, 1);
     ocl::Buffer<SdfBrick> brick(device, 1);
+    ocl::Buffer<SdfCamera> camera(device, 1);
+    ocl::Buffer<SdfBvhNode> node(device, 1);
+    ocl::Buffer<SdfInstance> instance(device, 1);
+    ocl::Buffer<SdfBrickGeometry> geometry(device, 1);
+    ocl::Buffer<SdfShading> shading(device, 1);
     ocl::Buffer<cl_uint> out(device, std::vector<cl_uint>(expected.size() + 4, 0u));
-    ocl::set_args(kernel.get(), edit, bounds, brick, out);
+    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, instance, geometry, shading, out);
     ocl::enqueue(device, kernel.get(), "layout_probe", 1);
     const std::vector<cl_uint> got = out.read();
     const char* names[] = {"sizeof SdfTransform", "sizeof SdfEdit", "sizeof SdfBounds", "sizeof SdfBrick",
                            "SdfEdit.transform.translation", "SdfEdit.transform.scale", "SdfEdit.transform.rotation",
                            "SdfEdit.params", "SdfEdit.blend", "SdfEdit.inv_lipschitz", "SdfEdit.primitive",
                            "SdfEdit.op", "SdfBounds.lo", "SdfBounds.hi", "SdfBrick.coord", "SdfBrick.level",
-                           "SdfBrick.edit_offset", "SdfBrick.edit_count", "SdfBrick.child_mask", "end marker"};
+                           "SdfBrick.edit_offset", "SdfBrick.edit_count", "SdfBrick.child_mask",
+                           "sizeof SdfCamera", "SdfCamera.forward", "SdfCamera.right", "SdfCamera.up",
+                           "SdfCamera.width", "SdfCamera.height", "sizeof SdfBvhNode", "SdfBvhNode.hi0",
+                           "SdfBvhNode.lo1", "SdfBvhNode.hi1", "SdfBvhNode.child", "sizeof SdfInstance",
+                           "SdfInstance.translation", "SdfInstance.scale", "SdfInstance.geometry",
+                           "sizeof SdfBrickGeometry", "SdfBrickGeometry.inv_voxel", "SdfBrickGeometry.dequant",
+                           "SdfBrickGeometry.root", "SdfBrickGeometry.brick_offset", "sizeof SdfShading",
+                           "SdfShading.light_color", "SdfShading.shadow_spread", "SdfShading.ao_radius",
+                           "SdfShading.ray_offset", "SdfShading.shadow_rays", "SdfShading.ao_rays", "end marker"};
     ASSERT_EQ(std::size(names), expected.size());
     for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(got[i], expected[i]) << names[i];
 }
