@@ -8,10 +8,11 @@
  *   bvh_hierarchy      n - 1 internal nodes, one work-item each: the node's key range and split, its
  *                      two children (internal or leaf) and the parent links.
  *   bvh_refit          bottom-up from every leaf: each node stores its two children's boxes. A node's
- *                      counter tells the second of its two children to arrive that both boxes are in
- *                      place; that work-item writes the union into the parent. The union (min/max) does
- *                      not depend on which child came second, so the tree is the same bit for bit on
- *                      every run and device: the atomic only counts, it never orders a result.
+ *                      counter tells the second of its two children to arrive to finish the node: it
+ *                      waits until the sibling's box is visible, writes the union into the parent and
+ *                      goes on up. The union (min/max) does not depend on which child came second, so
+ *                      the tree is the same bit for bit on every run and device: the atomic only
+ *                      counts, it never orders a result.
  * Node i's children: child[c] >= 0 is internal node child[c] (+ node_offset in the shared array),
  * child[c] < 0 is leaf ~child[c]. */
 #include "sdf_types.h"
@@ -105,8 +106,7 @@ __kernel void bvh_hierarchy(__global const ulong* keys, uint n_leaves, uint node
     if (i == 0) node_parent[0] = NO_PARENT;
 }
 
-/* Writes box into slot c of node (plain stores), or reads both slots of node (volatile loads, so that
- * a sibling's box written by another work-item is read from memory, not from a stale cache line). */
+/* Writes box into slot c of node. */
 inline void bvh_store_slot(__global SdfBvhNode* node, int c, const float lo[3], const float hi[3]) {
     __global float* f = (__global float*)node + 6 * c;
     for (int a = 0; a < 3; ++a) {
@@ -115,10 +115,13 @@ inline void bvh_store_slot(__global SdfBvhNode* node, int c, const float lo[3], 
     }
 }
 
+#define BVH_FLAG_REFIT_STUCK 4u
+#define BVH_SPIN_LIMIT (1 << 24)
+
 __kernel void bvh_refit(__global const SdfBounds* leaf_boxes, uint n_leaves, uint node_offset,
                         __global SdfBvhNode* nodes, __global const uint* node_parent,
                         __global const uint* leaf_parent, __global uint* arrivals, __global SdfBounds* root_boxes,
-                        uint root_slot) {
+                        uint root_slot, __global uint* flags) {
     __global SdfBounds* root_box = root_boxes + root_slot;
     const uint i = get_global_id(0);
     if (i >= n_leaves) return;
@@ -144,11 +147,24 @@ __kernel void bvh_refit(__global const SdfBounds* leaf_boxes, uint n_leaves, uin
         bvh_store_slot(nodes + node, c, lo, hi);
         mem_fence(CLK_GLOBAL_MEM_FENCE);
         if (atomic_inc(&arrivals[node - node_offset]) == 0u) return; /* the sibling finishes this node */
-        mem_fence(CLK_GLOBAL_MEM_FENCE);
-        volatile __global const float* f = (volatile __global const float*)(nodes + node);
+        /* The sibling has arrived, but OpenCL 1.2 does not promise that its box is visible yet across
+         * work-groups: read the slot (volatile: from memory, not a stale cache line) until it no longer
+         * holds the empty box bvh_hierarchy put there. A box is never empty, so the wait ends. */
+        volatile __global const float* f = (volatile __global const float*)(nodes + node) + 6 * (1 - c);
+        float s[6];
+        for (int spin = 0;; ++spin) {
+            for (int a = 0; a < 6; ++a) s[a] = f[a];
+            if (s[0] != INFINITY && s[1] != INFINITY && s[2] != INFINITY && s[3] != -INFINITY &&
+                s[4] != -INFINITY && s[5] != -INFINITY)
+                break;
+            if (spin == BVH_SPIN_LIMIT) { /* never expected: report, do not hang */
+                atomic_or(flags, BVH_FLAG_REFIT_STUCK);
+                return;
+            }
+        }
         for (int a = 0; a < 3; ++a) {
-            lo[a] = fmin(f[a], f[6 + a]);
-            hi[a] = fmax(f[3 + a], f[9 + a]);
+            lo[a] = fmin(lo[a], s[a]);
+            hi[a] = fmax(hi[a], s[3 + a]);
         }
         const uint parent = node_parent[node - node_offset];
         if (parent == NO_PARENT) {

@@ -110,6 +110,23 @@ TEST(Bvh, EveryBrickReachableAndBoxesNested) {
     }
 }
 
+// The refit's work-items hand boxes to each other through global memory: a larger tree, rebuilt
+// several times, must stay valid and bit-identical (this caught a visibility race on a GPU).
+TEST(Bvh, RebuildsAreValidAndIdentical) {
+    const Scene scene = shipped("drops");
+    const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, settings(0.25));
+    const std::vector<SdfBounds> boxes = b.builds[0].aabbs->read();
+    std::string first;
+    for (int i = 0; i < 8; ++i) {
+        const bvh::SceneBvh t = engine().bvh.build(scene, b.builds);
+        const std::vector<SdfBvhNode> nodes = t.nodes->read();
+        ASSERT_EQ(bvh::check_tree(nodes, t.roots[0], boxes), "") << "rebuild " << i;
+        const std::string d = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
+        if (i == 0) first = d;
+        ASSERT_EQ(d, first) << "rebuild " << i;
+    }
+}
+
 TEST(Bvh, CheckTreeFindsBrokenTrees) {
     // Two leaves under one root, then three ways to break it.
     const std::vector<SdfBounds> boxes{{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}};

@@ -17,7 +17,7 @@ namespace sdfbrick::bvh {
 namespace {
 
 constexpr std::size_t kGroup = 64;
-constexpr cl_uint kFlagUnsorted = 1u, kFlagTooLarge = 2u;  // bvh_morton_bricks
+constexpr cl_uint kFlagUnsorted = 1u, kFlagTooLarge = 2u, kFlagStuck = 4u;  // kernels/bvh_build.cl
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 
@@ -86,7 +86,7 @@ struct TreeScratch {
 void BvhBuilder::build_tree(build::Timeline& timeline, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
                             const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                             std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes,
-                            std::size_t slot) {
+                            std::size_t slot, ocl::Buffer<cl_uint>& flags) {
     const auto count = static_cast<cl_uint>(n), node_offset = static_cast<cl_uint>(offset);
     const std::vector<cl_uint> zeros(nodes_for(n), 0u);
     scratch.arrivals.write(zeros);
@@ -98,7 +98,7 @@ void BvhBuilder::build_tree(build::Timeline& timeline, const std::string& stage,
                      ocl::enqueue(device_, programs_->hierarchy.get(), "bvh_hierarchy", global, kGroup));
     }
     ocl::set_args(programs_->refit.get(), leaf_boxes, count, node_offset, nodes, scratch.node_parent,
-                  scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot));
+                  scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot), flags);
     const std::size_t global = round_up(n, kGroup);
     timeline.add(stage, -1, "bvh_refit", global, kGroup,
                  ocl::enqueue(device_, programs_->refit.get(), "bvh_refit", global, kGroup));
@@ -121,7 +121,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
     out.node_count = total_nodes;
     ocl::Buffer<cl_ulong> keys(device_, max_leaves);
     TreeScratch scratch(device_, max_leaves);
-    ocl::Buffer<cl_uint> flags(device_, std::vector<cl_uint>(builds.size() + 1, 0u));
+    ocl::Buffer<cl_uint> flags(device_, std::vector<cl_uint>{0u});
     ocl::Buffer<SdfBounds> root_boxes(device_, builds.size() + 1);
     std::size_t offset = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {
@@ -132,7 +132,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
         ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), keys, flags);
         timeline.add("bvh", -1, "bvh_morton_bricks", round_up(n, kGroup), kGroup,
                      ocl::enqueue(device_, programs_->morton.get(), "bvh_morton_bricks", round_up(n, kGroup), kGroup));
-        build_tree(timeline, "bvh", keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g);
+        build_tree(timeline, "bvh", keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
         offset += nodes_for(n);
     }
     const cl_uint flag = flags.read()[0];
@@ -201,7 +201,8 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
     ocl::Buffer<SdfBounds> tlas_boxes(device_, leaf_boxes, CL_MEM_READ_ONLY);
     TreeScratch tlas_scratch(device_, instances.size());
     build_tree(timeline, "tlas", tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
-               builds.size());
+               builds.size(), flags);
+    if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
 
     out.launches = timeline.resolve();
     out.device_ms = timeline.total_ms();

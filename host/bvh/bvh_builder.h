@@ -52,7 +52,8 @@ private:
     struct Programs;
     void build_tree(build::Timeline& timeline, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
                     const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
-                    std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot);
+                    std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,
+                    ocl::Buffer<cl_uint>& flags);
     ocl::Device& device_;
     std::unique_ptr<Programs> programs_;
 };

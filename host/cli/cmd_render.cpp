@@ -2,6 +2,7 @@
 // the picture, and with --compare measures the render against the device reference tracer (the
 // analytic edit lists, no bricks) with the same camera.
 #include <algorithm>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -95,7 +96,7 @@ struct DeviceRender {
 };
 
 DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
-                       const build::BuildSettings& settings, std::string& text) {
+                       const build::BuildSettings& settings, bool check_trees, std::string& text) {
     DeviceRender r;
     const SdfCamera camera = render::make_camera(scene.camera, o.trace.width, o.trace.height);
     const double pixels = static_cast<double>(o.trace.width) * o.trace.height;
@@ -141,6 +142,18 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
         r.json["work_per_pixel"] = {{"node_visits", work.node_visits}, {"brick_steps", work.brick_steps}};
         r.json["digest"] = r.digest;
         r.json["voxel_world"] = bricks.voxel_world;
+        if (check_trees) {  // several devices: the trees must agree too (and be valid)
+            const std::vector<SdfBvhNode> nodes = bricks.bvh.nodes->read();
+            r.json["bvh_digest"] = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
+            std::string problems;
+            for (std::size_t g = 0; g < bricks.builds.size(); ++g) {
+                const std::vector<SdfBounds> boxes = bricks.builds[g].aabbs->read();
+                const std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
+                if (!p.empty()) problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);
+            }
+            r.json["bvh_valid"] = problems.empty();
+            if (!problems.empty()) text += "  BVH INVALID: " + problems + "\n";
+        }
         text += fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
                             "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
                             bricks.build_ms, bricks.bricks, bricks.bvh.device_ms, bricks.bvh.node_count, trace,
@@ -183,6 +196,25 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
     return r;
 }
 
+// "" when the buffers are bit-identical; else how many pixels differ and the first of them.
+std::string difference_text(const render::RenderBuffer& a, const render::RenderBuffer& b) {
+    std::size_t hits = 0, aux = 0, first = a.pixels();
+    for (std::size_t i = 0; i < a.pixels(); ++i) {
+        const bool h = std::memcmp(&a.hit[i], &b.hit[i], sizeof(cl_float4)) != 0;
+        const bool x = std::memcmp(&a.aux[i], &b.aux[i], sizeof(cl_uint2)) != 0;
+        hits += h;
+        aux += x;
+        if ((h || x) && first == a.pixels()) first = i;
+    }
+    if (first == a.pixels()) return "";
+    const auto px = [](const render::RenderBuffer& r, std::size_t i) {
+        return fmt::format("({:.9g} {:.9g} {:.9g} depth {:.9g}, brick {}, counters {:#x})", r.hit[i].s[0], r.hit[i].s[1],
+                           r.hit[i].s[2], r.hit[i].s[3], r.aux[i].s[0], r.aux[i].s[1]);
+    };
+    return fmt::format("{} pixels differ in normal or depth, {} in brick or counters; first at ({}, {}): {} vs {}", hits,
+                       aux, first % a.width, first / a.width, px(a, first), px(b, first));
+}
+
 std::filesystem::path with_suffix(const std::filesystem::path& p, const std::string& suffix) {
     return p.parent_path() / (p.stem().string() + suffix + p.extension().string());
 }
@@ -222,9 +254,13 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     nlohmann::json device_reports = nlohmann::json::array();
     bool agree = true;
     for (ocl::Device& device : devices) {
-        runs.push_back(render_on(device, scene, o, settings, text));
+        runs.push_back(render_on(device, scene, o, settings, devices.size() > 1, text));
         device_reports.push_back(runs.back().json);
-        agree = agree && runs.back().digest == runs.front().digest;
+        if (runs.size() > 1) {
+            const std::string diff = difference_text(runs.front().buffer, runs.back().buffer);
+            agree = agree && diff.empty() && runs.back().json.value("bvh_digest", "") == runs.front().json.value("bvh_digest", "");
+            if (!diff.empty()) text += fmt::format("  differs from device {}: {}\n", devices[0].info().index, diff);
+        }
     }
     if (devices.size() > 1) text += fmt::format("devices agree bit for bit: {}\n", agree ? "yes" : "NO");
 
