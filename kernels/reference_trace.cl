@@ -223,6 +223,16 @@ inline int ref_clip(float3 o, float3 d, const float lo[3], const float hi[3], fl
     return a <= b;
 }
 
+/* The world ray (eye, dir) in the instance's geometry frame (sdf_types.h, SdfInstance). */
+inline void ref_ray_to_geometry(const SdfInstance* inst, float3 eye, float3 dir, float3* og, float3* dg) {
+    const float* m = inst->world_to_geometry;
+    const float3 r = eye - (float3)(inst->translation[0], inst->translation[1], inst->translation[2]);
+    *og = (float3)(m[0] * r.x + m[1] * r.y + m[2] * r.z, m[3] * r.x + m[4] * r.y + m[5] * r.z,
+                   m[6] * r.x + m[7] * r.y + m[8] * r.z);
+    *dg = (float3)(m[0] * dir.x + m[1] * dir.y + m[2] * dir.z, m[3] * dir.x + m[4] * dir.y + m[5] * dir.z,
+                   m[6] * dir.x + m[7] * dir.y + m[8] * dir.z);
+}
+
 __kernel void reference_trace(__global const SdfCamera* camera, __global const SdfInstance* instances,
                               uint instance_count, __global const RefGeometry* geoms,
                               __global const SdfEdit* edits, __global const SdfBounds* boxes,
@@ -258,13 +268,8 @@ __kernel void reference_trace(__global const SdfCamera* camera, __global const S
     for (uint k = 0; k < instance_count; ++k) {
         const SdfInstance inst = instances[k];
         const RefGeometry g = geoms[inst.geometry];
-        const float* m = inst.world_to_geometry;
-        const float3 r = eye - (float3)(inst.translation[0], inst.translation[1], inst.translation[2]);
-        const float3 og = (float3)(m[0] * r.x + m[1] * r.y + m[2] * r.z, m[3] * r.x + m[4] * r.y + m[5] * r.z,
-                                   m[6] * r.x + m[7] * r.y + m[8] * r.z);
-        const float3 dg = (float3)(m[0] * dir.x + m[1] * dir.y + m[2] * dir.z,
-                                   m[3] * dir.x + m[4] * dir.y + m[5] * dir.z,
-                                   m[6] * dir.x + m[7] * dir.y + m[8] * dir.z);
+        float3 og, dg;
+        ref_ray_to_geometry(&inst, eye, dir, &og, &dg);
         /* p_g(t) = og + t dg with |dg| = 1 / scale: a step of D geometry units along the ray is
          * D / |dg| in t (world units). */
         const float dg_len = sdf_len3(dg);
@@ -318,13 +323,8 @@ __kernel void reference_trace(__global const SdfCamera* camera, __global const S
     } else if (best_t < INFINITY) {
         const SdfInstance inst = instances[best_instance];
         const RefGeometry g = geoms[inst.geometry];
-        const float* m = inst.world_to_geometry;
-        const float3 r = eye - (float3)(inst.translation[0], inst.translation[1], inst.translation[2]);
-        const float3 og = (float3)(m[0] * r.x + m[1] * r.y + m[2] * r.z, m[3] * r.x + m[4] * r.y + m[5] * r.z,
-                                   m[6] * r.x + m[7] * r.y + m[8] * r.z);
-        const float3 dg = (float3)(m[0] * dir.x + m[1] * dir.y + m[2] * dir.z,
-                                   m[3] * dir.x + m[4] * dir.y + m[5] * dir.z,
-                                   m[6] * dir.x + m[7] * dir.y + m[8] * dir.z);
+        float3 og, dg;
+        ref_ray_to_geometry(&inst, eye, dir, &og, &dg);
         const float3 p = ref_point(og, dg, best_t);
         const float h = g.normal_h;
         const float gx = ref_value(&s, &g, p + (float3)(h, 0.0f, 0.0f), list, &counts) -
@@ -334,6 +334,7 @@ __kernel void reference_trace(__global const SdfCamera* camera, __global const S
         const float gz = ref_value(&s, &g, p + (float3)(0.0f, 0.0f, h), list, &counts) -
                          ref_value(&s, &g, p - (float3)(0.0f, 0.0f, h), list, &counts);
         /* geometry -> world: M^T n, then normalised */
+        const float* m = inst.world_to_geometry;
         float3 nw = (float3)(m[0] * gx + m[3] * gy + m[6] * gz, m[1] * gx + m[4] * gy + m[7] * gz,
                              m[2] * gx + m[5] * gy + m[8] * gz);
         const float len = sdf_len3(nw);

@@ -113,6 +113,35 @@ TEST(Cli, BuildReportsBricksDigestStagesMemory) {
     EXPECT_NE(bad.err.find("--chunk"), std::string::npos) << bad.err;
 }
 
+TEST(Cli, RenderWritesPicturesAndAccuracy) {
+    const fs::path dir = test::temp_dir("cli_render");
+    const std::string env = "SDFBRICK_DEVICE=" + test_device_spec();
+    const fs::path out = dir / "s.ppm";
+    const CliRun r = sdfbrick("render " + scene_path("spheres") + " --brick-size 0.125 --width 48 --height 32 --compare "
+                              "--repeat 2 --out " + out.string() + " --json " + (dir / "r.json").string(), env);
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* f : {"s.ppm", "s-reference.ppm", "s-difference.ppm"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+    const auto j = nlohmann::json::parse(read_file(dir / "r.json"));
+    std::set<std::string> stages;
+    for (const auto& st : j["stages"]) {
+        stages.insert(st["name"].get<std::string>());
+        EXPECT_GT(st["device_ms"].get<double>(), 0.0) << st["name"];
+    }
+    for (const char* s : {"build", "bvh", "trace", "reference"}) EXPECT_TRUE(stages.count(s)) << s;
+    EXPECT_GT(j["rays_per_second"].get<double>(), 0.0);
+    EXPECT_TRUE(j["devices"][0]["trace_repeats"]["identical"].get<bool>());
+    const auto& a = j["accuracy"];
+    EXPECT_GT(a["both_hit"].get<int>(), 100);
+    EXPECT_LT(a["depth_error_p99"].get<double>(), 0.5);
+    EXPECT_LT(a["normal_error_mean_deg"].get<double>(), 2.0);
+    const CliRun bad = sdfbrick("render " + scene_path("spheres") + " --mode x-ray", env);
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("--mode"), std::string::npos) << bad.err;
+    const CliRun big = sdfbrick("render " + scene_path("spheres") + " --width 5000", env);
+    EXPECT_EQ(big.status, 2);
+    EXPECT_NE(big.err.find("--width"), std::string::npos) << big.err;
+}
+
 // Every kind of bad input: exit status 2, one line on stderr naming the place, no output file.
 TEST(Cli, BadInputIsRefusedCleanly) {
     const fs::path dir = test::temp_dir("cli_bad");

@@ -33,7 +33,7 @@ struct RenderOptions {
     BuildFlags flags;
     render::TraceSettings trace;
     std::string mode = "normals";
-    std::string method = "analytic";
+    std::string method = "sphere";
     std::string normals = "continuous";
     std::optional<std::string> out;
     bool reference = false;
