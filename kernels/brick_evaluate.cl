@@ -11,13 +11,7 @@
 #define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
 #define INTERIOR (SAMPLES - 2 * APRON)
 
-#if FORMAT == 0
-typedef char sample_t;
-#elif FORMAT == 1
-typedef short sample_t;
-#else
-typedef float sample_t;
-#endif
+#include "sdf_format.h"
 
 __kernel void brick_evaluate(__global const SdfEdit* edits, __global const uint* edit_indices,
                              __global const SdfBrick* bricks,

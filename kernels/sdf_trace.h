@@ -29,13 +29,7 @@
 #define SPHERE_MAX_STEPS 64       /* sphere tracing: steps per brick */
 #define ROOT_ITERATIONS 8         /* analytic: regula falsi (Illinois) iterations per root */
 
-#if FORMAT == 0
-typedef char sample_t;
-#elif FORMAT == 1
-typedef short sample_t;
-#else
-typedef float sample_t;
-#endif
+#include "sdf_format.h"
 
 inline float tr_dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline float3 tr_normalize(float3 a) {

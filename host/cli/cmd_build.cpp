@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
+#include "core/stats.h"
 #include "scene/scene_json.h"
 
 namespace sdfbrick::cli {
@@ -43,11 +44,6 @@ struct DeviceRun {
     std::string digest, list_digest;
     bool repeats_identical = true;
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 DeviceRun run_device(ocl::Device& device, const Scene& scene, const BuildOptions& o) {
     build::BrickBuilder builder(device);

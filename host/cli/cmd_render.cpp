@@ -15,6 +15,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
+#include "core/stats.h"
 #include "render/accuracy.h"
 #include "render/brick_tracer.h"
 #include "render/pictures.h"
@@ -41,11 +42,6 @@ struct RenderOptions {
     int repeat = 1;
     std::optional<std::string> json;
 };
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 std::string buffer_digest(const render::RenderBuffer& b) {
     return Fnv1a64()
