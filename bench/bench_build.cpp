@@ -35,7 +35,7 @@ void bench_build(benchmark::State& state, const std::string& scene_name, double 
     for (auto _ : state) {
         last = builder().build(g, settings);
         state.SetIterationTime(last.device_ms * 1e-3);
-        for (const build::Launch& l : last.launches) stage_ms[l.stage] += l.device_ms;
+        for (const measure::Launch& l : last.launches) stage_ms[l.stage] += l.device_ms;
     }
     const auto iterations = static_cast<double>(state.iterations());
     state.counters["bricks"] = static_cast<double>(last.leaf_count);

@@ -223,7 +223,7 @@ TEST(Build, LevelsAndWorkAreReported) {
     for (const char* r : {"brick pool", "brick records", "aabbs", "edit lists"}) EXPECT_GT(b.memory.at(r), 0u) << r;
     EXPECT_EQ(b.memory.at("brick pool"), b.leaf_count * 512);
     for (const char* stage : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"})
-        EXPECT_TRUE(std::any_of(b.launches.begin(), b.launches.end(), [&](const build::Launch& l) { return l.stage == stage; }))
+        EXPECT_TRUE(std::any_of(b.launches.begin(), b.launches.end(), [&](const measure::Launch& l) { return l.stage == stage; }))
             << stage;
     // AABBs are the leaves' boxes.
     const std::vector<SdfBounds> boxes = b.aabbs->read();

@@ -5,10 +5,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <string>
 #include <sys/wait.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -100,7 +102,7 @@ TEST(Cli, BuildReportsBricksDigestStagesMemory) {
     EXPECT_GT(j["bricks"].get<int>(), 100);
     EXPECT_EQ(j["digest"].get<std::string>().size(), 16u);
     EXPECT_GT(j["memory"]["brick pool"].get<std::uint64_t>(), 0u);
-    EXPECT_TRUE(j["devices"][0]["repeats"]["identical"].get<bool>());
+    EXPECT_TRUE(j["devices"][0]["captures"]["identical"].get<bool>());
     std::set<std::string> stages;
     for (const auto& st : j["stages"]) stages.insert(st["name"].get<std::string>());
     for (const char* s : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"}) EXPECT_TRUE(stages.count(s)) << s;
@@ -122,14 +124,26 @@ TEST(Cli, RenderWritesPicturesAndAccuracy) {
     ASSERT_EQ(r.status, 0) << r.err;
     for (const char* f : {"s.ppm", "s-reference.ppm", "s-difference.ppm"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
     const auto j = nlohmann::json::parse(read_file(dir / "r.json"));
-    std::set<std::string> stages;
-    for (const auto& st : j["stages"]) {
-        stages.insert(st["name"].get<std::string>());
-        EXPECT_GT(st["device_ms"].get<double>(), 0.0) << st["name"];
+    std::map<std::string, nlohmann::json> stages;
+    for (const auto& st : j["stages"]) stages[st["name"].get<std::string>()] = st;
+    for (const char* s : {"count", "evaluate", "bvh", "trace", "reference"}) ASSERT_TRUE(stages.count(s)) << s;
+    for (const char* s : {"evaluate", "trace"}) {  // two captures: median, min, max and cv per stage
+        EXPECT_GT(stages[s]["median_ms"].get<double>(), 0.0) << s;
+        EXPECT_EQ(stages[s]["samples_ms"].size(), 2u) << s;
+        EXPECT_LE(stages[s]["min_ms"].get<double>(), stages[s]["max_ms"].get<double>()) << s;
     }
-    for (const char* s : {"build", "bvh", "trace", "reference"}) EXPECT_TRUE(stages.count(s)) << s;
     EXPECT_GT(j["rays_per_second"].get<double>(), 0.0);
-    EXPECT_TRUE(j["devices"][0]["trace_repeats"]["identical"].get<bool>());
+    EXPECT_TRUE(j["devices"][0]["captures"]["identical"].get<bool>());
+    EXPECT_EQ(j["devices"][0]["captures"]["warmup"], 1);
+    bool evaluate_row = false;
+    for (const auto& k : j["devices"][0]["kernels"]) {
+        if (k["kernel"] != "brick_evaluate") continue;
+        evaluate_row = true;
+        EXPECT_EQ(k["launches"], 2);
+        EXPECT_GT(k["attributes"]["local_mem_bytes"].get<double>(), 0.0);
+        EXPECT_TRUE(k["occupancy"].contains("theoretical"));
+    }
+    EXPECT_TRUE(evaluate_row);
     const auto& a = j["accuracy"];
     EXPECT_GT(a["both_hit"].get<int>(), 100);
     EXPECT_LT(a["depth_error_p99"].get<double>(), 0.5);
@@ -140,6 +154,65 @@ TEST(Cli, RenderWritesPicturesAndAccuracy) {
     const CliRun big = sdfbrick("render " + scene_path("spheres") + " --width 5000", env);
     EXPECT_EQ(big.status, 2);
     EXPECT_NE(big.err.find("--width"), std::string::npos) << big.err;
+}
+
+// tune writes the database; a following build reads it (and says so); --no-tuning ignores it; compare
+// reads two build reports.
+TEST(Cli, TuneWritesTheDatabaseAndLaterRunsUseIt) {
+    const fs::path dir = test::temp_dir("cli_tune");
+    const std::string db = (dir / "tuning.json").string();
+    const std::string env = "SDFBRICK_DEVICE=" + test_device_spec() + " SDFBRICK_TUNING_DB=" + db;
+    const CliRun t = sdfbrick("tune " + scene_path("spheres") + " --brick-size 0.5 --kernels evaluate,trace --strategy random "
+                              "--budget 3 --repeat 1 --warmup 0 --width 32 --height 16", env);
+    ASSERT_EQ(t.status, 0) << t.err;
+    const auto j = nlohmann::json::parse(read_file(db));
+    ASSERT_EQ(j["entries"].size(), 2u) << j.dump();
+    const auto& e = j["entries"][0]["kernel"] == "brick_evaluate" ? j["entries"][0] : j["entries"][1];
+    const int chunk = e["params"]["chunk"], group = e["params"]["group"];
+    EXPECT_EQ(e["evaluated"], 3);
+
+    const CliRun b = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.5 --repeat 2 --json " + (dir / "a.json").string(), env);
+    ASSERT_EQ(b.status, 0) << b.err;
+    EXPECT_NE(b.out.find(fmt::format("brick_evaluate chunk {} group {} (device)", chunk, group)), std::string::npos) << b.out;
+    const auto report = nlohmann::json::parse(read_file(dir / "a.json"));
+    EXPECT_EQ(report["settings"]["chunk"], chunk);
+    EXPECT_EQ(report["tuning"]["brick_evaluate"]["source"], "device");
+
+    const CliRun given = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.5 --chunk 16 --group 32", env);
+    EXPECT_NE(given.out.find("chunk 16 group 32 (command line)"), std::string::npos) << given.out;
+    const CliRun off = sdfbrick("--no-tuning build " + scene_path("spheres") + " --brick-size 0.5 --repeat 2 --json " + (dir / "b.json").string(), env);
+    ASSERT_EQ(off.status, 0) << off.err;
+    EXPECT_NE(off.out.find("chunk 64 group 128 (default)"), std::string::npos) << off.out;
+
+    const CliRun c = sdfbrick("compare " + (dir / "a.json").string() + " " + (dir / "b.json").string(), env);
+    ASSERT_EQ(c.status, 0) << c.err;
+    for (const char* s : {"evaluate", "total", "stage(s) changed"}) EXPECT_NE(c.out.find(s), std::string::npos) << c.out;
+}
+
+// Two shards of a sweep, then merge: one complete CSV with every grid point.
+TEST(Cli, SweepShardsMerge) {
+    const fs::path dir = test::temp_dir("cli_sweep");
+    const std::string env = "SDFBRICK_DEVICE=" + test_device_spec() + " SDFBRICK_TUNING_DB=off";
+    const std::string grid = "sweep --scenes " + scene_path("spheres") + " --brick-sizes 0.5 --chunks 16,32 --cull on,off "
+                             "--width 32 --height 16 --warmup 0 --repeat 1 ";
+    for (int i = 0; i < 2; ++i) {
+        const CliRun r = sdfbrick(grid + fmt::format("--shard {}/2 --out {}", i, (dir / fmt::format("s{}", i)).string()), env);
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_NE(r.out.find("2 points of 4 in the grid"), std::string::npos) << r.out;
+    }
+    const CliRun again = sdfbrick(grid + "--shard 0/2 --out " + (dir / "s0").string(), env);  // resumed: all cached
+    ASSERT_EQ(again.status, 0) << again.err;
+    const CliRun m = sdfbrick("merge " + (dir / "s0.json").string() + " " + (dir / "s1.json").string() + " --out " +
+                              (dir / "all").string(), env);
+    ASSERT_EQ(m.status, 0) << m.err;
+    EXPECT_NE(m.out.find("4 points from 2 files, complete"), std::string::npos) << m.out;
+    const std::string csv = read_file(dir / "all.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;
+    const CliRun part = sdfbrick("merge " + (dir / "s0.json").string() + " --out " + (dir / "part").string(), env);
+    EXPECT_NE(part.out.find("NOT complete"), std::string::npos) << part.out;
+    const CliRun bad = sdfbrick("sweep --scenes " + scene_path("spheres") + " --chunks 7", env);
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_NE(bad.err.find("chunks"), std::string::npos) << bad.err;
 }
 
 // Every kind of bad input: exit status 2, one line on stderr naming the place, no output file.

@@ -27,7 +27,6 @@ namespace {
 using build::DependencyBuilder;
 using build::EditDependencies;
 using build::Scan;
-using build::Timeline;
 
 DependencyBuilder& builder() {
     static Scan scan(test::device());
@@ -41,9 +40,9 @@ struct Result {
     std::size_t total = 0;
 };
 
-Result run(const std::vector<SdfEdit>& edits, Timeline& timeline) {
+Result run(const std::vector<SdfEdit>& edits, measure::Scheduler& scheduler) {
     ocl::Buffer<SdfEdit> buffer(test::device(), std::span<const SdfEdit>(edits));
-    EditDependencies d = builder().compute(buffer, edits.size(), timeline);
+    EditDependencies d = builder().compute(buffer, edits.size(), scheduler);
     Result r;
     r.bounds = d.bounds.read();
     r.influence = d.influence.read();
@@ -54,8 +53,8 @@ Result run(const std::vector<SdfEdit>& edits, Timeline& timeline) {
 }
 
 Result run(const std::vector<SdfEdit>& edits) {
-    Timeline timeline;
-    return run(edits, timeline);
+    measure::Scheduler scheduler(test::device());
+    return run(edits, scheduler);
 }
 
 bool valid(const SdfBounds& b) { return b.lo[0] <= b.hi[0] && b.lo[1] <= b.hi[1] && b.lo[2] <= b.hi[2]; }
@@ -194,8 +193,8 @@ TEST(EditBounds, ContainHostBoundsEveryPrimitive) {
             g.edits.push_back(e);
         }
     const std::vector<SdfEdit> device_edits = to_device(g);
-    Timeline timeline;
-    const Result r = run(device_edits, timeline);
+    measure::Scheduler scheduler(test::device());
+    const Result r = run(device_edits, scheduler);
     ASSERT_EQ(r.bounds.size(), g.edits.size());
     for (std::size_t i = 0; i < g.edits.size(); ++i) {
         const Edit& e = g.edits[i];
@@ -203,11 +202,11 @@ TEST(EditBounds, ContainHostBoundsEveryPrimitive) {
         expect_contains(r.bounds[i], bounds(e), what + " solid");
         expect_contains(r.influence[i], influence_bounds(e), what + " influence");
     }
-    timeline.resolve();
-    ASSERT_FALSE(timeline.launches().empty());
-    EXPECT_EQ(timeline.launches().front().stage, "edit_bounds");
-    EXPECT_EQ(timeline.launches().front().kernel, "edit_bounds");
-    for (const auto& l : timeline.launches()) {
+    scheduler.resolve();
+    ASSERT_FALSE(scheduler.launches().empty());
+    EXPECT_EQ(scheduler.launches().front().stage, "edit_bounds");
+    EXPECT_EQ(scheduler.launches().front().kernel, "edit_bounds");
+    for (const auto& l : scheduler.launches()) {
         EXPECT_TRUE(l.stage == "edit_bounds" || l.stage == "dependencies") << l.stage;
         EXPECT_EQ(l.level, -1);
     }
@@ -336,11 +335,11 @@ TEST(EditDeps, HugeEditsCoarsenTheGrid) {
     }
     const std::vector<SdfEdit> edits = to_device(g);
     ocl::Buffer<SdfEdit> buffer(test::device(), std::span<const SdfEdit>(edits));
-    Timeline timeline;
-    EditDependencies d = builder().compute(buffer, edits.size(), timeline);
-    timeline.resolve();
+    measure::Scheduler scheduler(test::device());
+    EditDependencies d = builder().compute(buffer, edits.size(), scheduler);
+    scheduler.resolve();
     std::size_t refs_launches = 0;
-    for (const auto& l : timeline.launches()) refs_launches += l.kernel == "grid_refs";
+    for (const auto& l : scheduler.launches()) refs_launches += l.kernel == "grid_refs";
     std::printf("[deps] huge edits: grid %u x %u x %u, %zu cell references, %zu grid_refs launches\n",
                 d.grid_dims[0], d.grid_dims[1], d.grid_dims[2], d.grid_refs, refs_launches);
     EXPECT_GT(refs_launches, 1u) << "the first grid should have been too fine";
@@ -381,21 +380,21 @@ TEST(EditDeps, MaxEditsMatchBruteForceOnSample) {
     const Geometry g = random_geometry(2024, n, spread, 0.3, 0.5);
     const std::vector<SdfEdit> edits = to_device(g);
     ocl::Buffer<SdfEdit> buffer(test::device(), std::span<const SdfEdit>(edits));
-    Timeline warm;
+    measure::Scheduler warm(test::device());
     builder().compute(buffer, n, warm);  // programs built, scan buffers sized
     warm.resolve();
-    Timeline timeline;
+    measure::Scheduler scheduler(test::device());
     const auto start = std::chrono::steady_clock::now();
-    EditDependencies d = builder().compute(buffer, n, timeline);
-    timeline.resolve();
+    EditDependencies d = builder().compute(buffer, n, scheduler);
+    scheduler.resolve();
     const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     std::printf("[deps] %zu edits: %zu dependencies; grid %u x %u x %u (cell %.3g), %zu cell references; "
                 "buffers %zu bytes, scratch %zu bytes\n",
                 n, d.total, d.grid_dims[0], d.grid_dims[1], d.grid_dims[2], double(d.grid_cell), d.grid_refs,
                 d.bytes(), d.scratch_bytes);
     std::printf("[deps] device ms: edit_bounds %.3f, dependencies %.3f; wall (incl. read-backs) %.3f ms\n",
-                timeline.stage_ms("edit_bounds"), timeline.stage_ms("dependencies"), wall_ms);
-    for (const auto& l : timeline.launches())
+                scheduler.stage_ms("edit_bounds"), scheduler.stage_ms("dependencies"), wall_ms);
+    for (const auto& l : scheduler.launches())
         std::printf("[deps]   %-13s %-12s global %8zu  %.3f ms\n", l.stage.c_str(), l.kernel.c_str(), l.global,
                     l.device_ms);
 
@@ -417,29 +416,29 @@ TEST(EditDeps, MaxEditsMatchBruteForceOnSample) {
 
 TEST(EditDeps, ZeroEdits) {
     ocl::Buffer<SdfEdit> buffer(test::device(), 0);
-    Timeline timeline;
-    EditDependencies d = builder().compute(buffer, 0, timeline);
+    measure::Scheduler scheduler(test::device());
+    EditDependencies d = builder().compute(buffer, 0, scheduler);
     EXPECT_EQ(d.bounds.size(), 0u);
     EXPECT_EQ(d.influence.size(), 0u);
     EXPECT_EQ(d.offsets.read(), std::vector<cl_uint>{0u});
     EXPECT_EQ(d.indices.size(), 0u);
     EXPECT_EQ(d.total, 0u);
     EXPECT_EQ(d.bytes(), sizeof(cl_uint));
-    timeline.resolve();
+    scheduler.resolve();
 
     // A count below the buffer's size uses only the first edits.
     const std::vector<SdfEdit> edits = to_device(random_geometry(3, 100, 2.0, 0.5, 1.0));
     ocl::Buffer<SdfEdit> some(test::device(), std::span<const SdfEdit>(edits));
-    EditDependencies part = builder().compute(some, 0, timeline);
+    EditDependencies part = builder().compute(some, 0, scheduler);
     EXPECT_EQ(part.offsets.read(), std::vector<cl_uint>{0u});
-    EditDependencies half = builder().compute(some, 50, timeline);
+    EditDependencies half = builder().compute(some, 50, scheduler);
     Result r;
     r.influence = half.influence.read();
     r.offsets = half.offsets.read();
     r.indices = half.indices.read();
     r.total = half.total;
     expect_brute_force(std::vector<SdfEdit>(edits.begin(), edits.begin() + 50), r, "first 50");
-    EXPECT_THROW(builder().compute(some, 101, timeline), std::out_of_range);
+    EXPECT_THROW(builder().compute(some, 101, scheduler), std::out_of_range);
 }
 
 }  // namespace

@@ -47,6 +47,9 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (chunk < 16 || chunk > 256) throw InputError(fmt::format("--chunk must lie in 16..256, got {}", chunk));
     if (eval_group < 1 || eval_group > 1024 || (eval_group & (eval_group - 1)) != 0)
         throw InputError(fmt::format("--group must be a power of two in 1..1024, got {}", eval_group));
+    if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
+        throw InputError(fmt::format("--group {} is larger than the {} work-items per work-group {} allows", eval_group,
+                                     device.max_work_group_size, device.name));
     if (!(band_voxels > 0.0) || band_voxels > 64.0)
         throw InputError(fmt::format("--band must lie in (0, 64] voxels, got {}", band_voxels));
     if (!(guard >= 0.0) || guard > 64.0) throw InputError(fmt::format("--guard must lie in [0, 64], got {}", guard));
@@ -117,7 +120,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
                                      SDF_MAX_EDITS));
     GeometryBuild out;
     out.name = g.name;
-    Timeline timeline;
+    measure::Scheduler scheduler(device_);
 
     const Aabb box = bounds(g);
     if (box.empty()) {  // no add edit: nothing can be solid, an empty and valid result
@@ -170,7 +173,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
     std::optional<EditDependencies> deps;
     if (s.cull && s.dependencies) {
         if (!programs_->dependencies) programs_->dependencies = std::make_unique<DependencyBuilder>(device_, scan_);
-        deps = programs_->dependencies->compute(edits, n_edits, timeline);
+        deps = programs_->dependencies->compute(edits, n_edits, scheduler);
         out.dependency_entries = deps->total;
         out.memory["dependency lists"] = deps->bytes();
     }
@@ -205,10 +208,9 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
         ocl::set_args(programs_->count_k.get(), edits, *parent_lists, *parents, lb, ox, oy, oz, cell, threshold(level),
                       out.clamp_c, counts, ocl::LocalMemory{count_local_bytes}, static_cast<cl_uint>(s.chunk),
                       ocl::LocalMemory{group * sizeof(cl_uint)});
-        timeline.add("count", level, "brick_count", candidates, group,
-                     ocl::enqueue(device_, programs_->count_k.get(), "brick_count", candidates, group));
+        scheduler.launch("count", level, programs_->count_k.get(), candidates, group);
         // scan
-        const std::uint64_t children = scan_.exclusive(counts, offsets, parent_count, timeline, "scan", level);
+        const std::uint64_t children = scan_.exclusive(counts, offsets, parent_count, scheduler, "scan", level);
         // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count
         // grows about B^2 per level, so project the leaves from this level's count (generously).
         const int remaining = levels - 1 - level;
@@ -228,8 +230,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
         if (children > 0) {
             ocl::set_args(programs_->subdivide_k.get(), *parents, static_cast<cl_uint>(parent_count), lb, offsets, *bricks);
             const std::size_t global = round_up(candidates, kGroup1d);
-            timeline.add("subdivide", level, "brick_subdivide", global, kGroup1d,
-                         ocl::enqueue(device_, programs_->subdivide_k.get(), "brick_subdivide", global, kGroup1d));
+            scheduler.launch("subdivide", level, programs_->subdivide_k.get(), global, kGroup1d);
         }
         if (level > 0) level_bricks.push_back(std::move(parents));  // the parent level's masks are final now
         // cull
@@ -239,30 +240,26 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
             if (words.size() < children) words = allocate<cl_uint>(device_, children, "the cull word counts");
             if (counts.size() < children) counts = allocate<cl_uint>(device_, children, "the cull counts");
             ocl::set_args(programs_->words_k.get(), *bricks, static_cast<cl_uint>(children), words);
-            timeline.add("cull", level, "cull_words", global, kGroup1d,
-                         ocl::enqueue(device_, programs_->words_k.get(), "cull_words", global, kGroup1d));
-            const std::uint64_t total_words = scan_.exclusive(words, words, children, timeline, "cull", level);
+            scheduler.launch("cull", level, programs_->words_k.get(), global, kGroup1d);
+            const std::uint64_t total_words = scan_.exclusive(words, words, children, scheduler, "cull", level);
             if (bits.size() < total_words) bits = allocate<cl_uint>(device_, total_words, "the cull bit sets");
             if (total_words > 0) {
                 const std::size_t word_global = round_up(total_words, kGroup1d);
                 ocl::set_args(programs_->mark_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
                               static_cast<cl_uint>(total_words), ox, oy, oz, cell, cull_radius(level), out.clamp_c,
                               static_cast<float>(magnitude), words, bits);
-                timeline.add("cull", level, "cull_mark", word_global, kGroup1d,
-                             ocl::enqueue(device_, programs_->mark_k.get(), "cull_mark", word_global, kGroup1d));
+                scheduler.launch("cull", level, programs_->mark_k.get(), word_global, kGroup1d);
             }
             ocl::set_args(programs_->cull_count_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
                           words, bits, static_cast<cl_uint>(deps ? 1 : 0), dep_offsets, dep_indices, counts);
-            timeline.add("cull", level, "cull_count", global, kGroup1d,
-                         ocl::enqueue(device_, programs_->cull_count_k.get(), "cull_count", global, kGroup1d));
+            scheduler.launch("cull", level, programs_->cull_count_k.get(), global, kGroup1d);
             if (offsets.size() < children) offsets = allocate<cl_uint>(device_, children, "the list offsets");
-            const std::uint64_t entries = scan_.exclusive(counts, offsets, children, timeline, "cull", level);
+            const std::uint64_t entries = scan_.exclusive(counts, offsets, children, scheduler, "cull", level);
             lists = std::make_unique<ocl::Buffer<cl_uint>>(
                 allocate<cl_uint>(device_, entries, fmt::format("the edit lists of level {}", level)));
             ocl::set_args(programs_->write_k.get(), *parent_lists, *bricks, static_cast<cl_uint>(children), words, bits,
                           offsets, *lists);
-            timeline.add("cull", level, "cull_write", global, kGroup1d,
-                         ocl::enqueue(device_, programs_->write_k.get(), "cull_write", global, kGroup1d));
+            scheduler.launch("cull", level, programs_->write_k.get(), global, kGroup1d);
             list_bytes += lists->bytes();
             list_entries.push_back(entries);
         } else {
@@ -299,17 +296,15 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
         ocl::set_args(kernel.get(), edits, *parent_lists, *level_bricks.back(), ox, oy, oz, static_cast<float>(voxel),
                       out.clamp_c, out.band, quant, *out.pool, ocl::LocalMemory{count_local_bytes},
                       static_cast<cl_uint>(s.chunk));
-        timeline.add("evaluate", levels - 1, "brick_evaluate", out.leaf_count * group, group,
-                     ocl::enqueue(device_, kernel.get(), "brick_evaluate", out.leaf_count * group, group));
+        scheduler.launch("evaluate", levels - 1, kernel.get(), out.leaf_count * group, group);
         const std::size_t global = round_up(out.leaf_count, kGroup1d);
         ocl::set_args(programs_->aabb_k.get(), *level_bricks.back(), static_cast<cl_uint>(out.leaf_count), ox, oy, oz,
                       out.leaf_size, *out.aabbs);
-        timeline.add("aabb", levels - 1, "brick_aabb", global, kGroup1d,
-                     ocl::enqueue(device_, programs_->aabb_k.get(), "brick_aabb", global, kGroup1d));
+        scheduler.launch("aabb", levels - 1, programs_->aabb_k.get(), global, kGroup1d);
     }
     device_.finish();
-    out.launches = timeline.resolve();
-    out.device_ms = timeline.total_ms();
+    out.launches = scheduler.resolve();
+    out.device_ms = scheduler.total_ms();
 
     // Report: bricks, list lengths and work per level (read back the records; not part of device time).
     std::uint64_t evaluations = 0;
@@ -331,10 +326,10 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
                                (l == 0 ? records.size()
                                        : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
         }
-        r.count_ms = timeline.stage_ms("count", r.level);
-        r.scan_ms = timeline.stage_ms("scan", r.level);
-        r.subdivide_ms = timeline.stage_ms("subdivide", r.level);
-        r.cull_ms = timeline.stage_ms("cull", r.level);
+        r.count_ms = scheduler.stage_ms("count", r.level);
+        r.scan_ms = scheduler.stage_ms("scan", r.level);
+        r.subdivide_ms = scheduler.stage_ms("subdivide", r.level);
+        r.cull_ms = scheduler.stage_ms("cull", r.level);
         out.level_reports.push_back(r);
         prev_entries = r.edit_entries;
         prev = records;

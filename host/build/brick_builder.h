@@ -1,6 +1,6 @@
 // Sparse brick construction on the device (DESIGN.md section 2, issue 3): per geometry, top-down
 // levels of count -> scan -> subdivide -> cull, then evaluate the leaf bricks into the brick pool and
-// their AABBs. Every launch is recorded in a Timeline; docs/construction.md explains the stages, the
+// their AABBs. Every launch goes through a measure::Scheduler; docs/construction.md explains the stages, the
 // band-limited field that makes culling exact, and every margin used below.
 #pragma once
 
@@ -17,7 +17,7 @@
 #include <glm/glm.hpp>
 
 #include "build/scan.h"
-#include "build/timeline.h"
+#include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
 #include "cl/program.h"
@@ -76,7 +76,7 @@ struct GeometryBuild {
     std::uint64_t edit_evaluations = 0;  // count + cull + evaluate
     std::uint64_t dependency_entries = 0;
     std::map<std::string, std::uint64_t> memory;  // bytes per resource
-    std::vector<Launch> launches;
+    std::vector<measure::Launch> launches;
     double device_ms = 0.0;  // all launches
     double host_ms = 0.0;    // wall time of build(), including read-backs
 

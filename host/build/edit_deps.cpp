@@ -124,7 +124,7 @@ DependencyBuilder::DependencyBuilder(ocl::Device& device, Scan& scan)
 }
 
 EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, std::size_t count,
-                                            Timeline& timeline) {
+                                            measure::Scheduler& scheduler) {
     if (count > edits.size())
         throw std::out_of_range(fmt::format("DependencyBuilder::compute: {} edits asked for, the buffer holds {}",
                                             count, edits.size()));
@@ -141,8 +141,7 @@ EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, s
 
     // ---- bounds ----
     ocl::set_args(edit_bounds_.get(), edits, n, out.bounds, out.influence);
-    timeline.add(kBoundsStage, -1, "edit_bounds", count, 0,
-                 ocl::enqueue(device_, edit_bounds_.get(), "edit_bounds", count));
+    scheduler.launch(kBoundsStage, -1, edit_bounds_.get(), count);
 
     // ---- grid statistics (small read-back: 10 floats per work-group) ----
     const std::size_t groups = (count + reduce_local_ - 1) / reduce_local_;
@@ -155,8 +154,7 @@ EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, s
         peak = std::max(peak, scratch);
         ocl::set_args(grid_stats_.get(), out.influence, n, partials,
                       ocl::LocalMemory{10 * reduce_local_ * sizeof(float)});
-        timeline.add(kDepsStage, -1, "grid_stats", reduce_global, reduce_local_,
-                     ocl::enqueue(device_, grid_stats_.get(), "grid_stats", reduce_global, reduce_local_));
+        scheduler.launch(kDepsStage, -1, grid_stats_.get(), reduce_global, reduce_local_);
         const std::vector<float> p = partials.read();
         scratch -= partials.bytes();
         std::array<double, 3> sum{0.0, 0.0, 0.0};
@@ -193,8 +191,7 @@ EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, s
             ocl::set_args(grid_refs_.get(), out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv,
                           grid.dims[0], grid.dims[1], grid.dims[2], partials,
                           ocl::LocalMemory{reduce_local_ * sizeof(cl_ulong)});
-            timeline.add(kDepsStage, -1, "grid_refs", reduce_global, reduce_local_,
-                         ocl::enqueue(device_, grid_refs_.get(), "grid_refs", reduce_global, reduce_local_));
+            scheduler.launch(kDepsStage, -1, grid_refs_.get(), reduce_global, reduce_local_);
             refs = 0;
             for (cl_ulong r : partials.read()) refs += r;
             if (refs <= cap) break;
@@ -214,37 +211,34 @@ EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, s
     ocl::Buffer<cl_uint> cell_starts(device_, cells + 1);
     scratch += cell_counts.bytes() + cell_starts.bytes();
     ocl::set_args(fill_uint_.get(), cell_counts, static_cast<cl_uint>(cells + 1), cl_uint{0});
-    timeline.add(kDepsStage, -1, "fill_uint", cells + 1, 0,
-                 ocl::enqueue(device_, fill_uint_.get(), "fill_uint", cells + 1));
+    scheduler.launch(kDepsStage, -1, fill_uint_.get(), cells + 1);
     const auto set_grid_args = [&](cl_kernel k, auto&&... rest) {
         ocl::set_args(k, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv, grid.dims[0],
                       grid.dims[1], grid.dims[2], rest...);
     };
     set_grid_args(grid_count_.get(), cell_counts);
-    timeline.add(kDepsStage, -1, "grid_count", count, 0, ocl::enqueue(device_, grid_count_.get(), "grid_count", count));
-    const std::uint64_t total_refs = scan_.exclusive(cell_counts, cell_starts, cells + 1, timeline, kDepsStage, -1);
+    scheduler.launch(kDepsStage, -1, grid_count_.get(), count);
+    const std::uint64_t total_refs = scan_.exclusive(cell_counts, cell_starts, cells + 1, scheduler, kDepsStage, -1);
     ocl::Buffer<cl_uint> items(device_, static_cast<std::size_t>(total_refs));
     scratch += items.bytes();
     peak = std::max(peak, scratch);
     set_grid_args(grid_fill_.get(), cell_starts, cell_counts, items);
-    timeline.add(kDepsStage, -1, "grid_fill", count, 0, ocl::enqueue(device_, grid_fill_.get(), "grid_fill", count));
+    scheduler.launch(kDepsStage, -1, grid_fill_.get(), count);
     ocl::set_args(grid_sort_.get(), cell_starts, static_cast<cl_uint>(cells), items);
-    timeline.add(kDepsStage, -1, "grid_sort", cells, 0, ocl::enqueue(device_, grid_sort_.get(), "grid_sort", cells));
+    scheduler.launch(kDepsStage, -1, grid_sort_.get(), cells);
 
     // ---- dependency lists ----
     ocl::set_args(deps_count_.get(), edits, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2],
                   grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out.offsets);
-    timeline.add(kDepsStage, -1, "deps_count", count + 1, 0,
-                 ocl::enqueue(device_, deps_count_.get(), "deps_count", count + 1));
+    scheduler.launch(kDepsStage, -1, deps_count_.get(), count + 1);
     out.total =
-        static_cast<std::size_t>(scan_.exclusive(out.offsets, out.offsets, count + 1, timeline, kDepsStage, -1));
+        static_cast<std::size_t>(scan_.exclusive(out.offsets, out.offsets, count + 1, scheduler, kDepsStage, -1));
     out.indices = ocl::Buffer<cl_uint>(device_, out.total);
     if (out.total > 0) {
         ocl::set_args(deps_write_.get(), edits, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2],
                       grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out.offsets,
                       out.indices);
-        timeline.add(kDepsStage, -1, "deps_write", count, 0,
-                     ocl::enqueue(device_, deps_write_.get(), "deps_write", count));
+        scheduler.launch(kDepsStage, -1, deps_write_.get(), count);
     }
     out.scratch_bytes = peak;
     out.grid_dims = grid.dims;

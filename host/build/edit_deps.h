@@ -13,7 +13,7 @@
 #include <cstdint>
 
 #include "build/scan.h"
-#include "build/timeline.h"
+#include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
 #include "cl/handles.h"
@@ -40,8 +40,8 @@ struct EditDependencies {
 class DependencyBuilder {  // holds the compiled programs and a Scan; reusable across builds
 public:
     DependencyBuilder(ocl::Device& device, Scan& scan);
-    // stage names recorded in timeline: "edit_bounds" and "dependencies" (level -1)
-    EditDependencies compute(const ocl::Buffer<SdfEdit>& edits, std::size_t count, Timeline& timeline);
+    // stage names recorded in scheduler: "edit_bounds" and "dependencies" (level -1)
+    EditDependencies compute(const ocl::Buffer<SdfEdit>& edits, std::size_t count, measure::Scheduler& scheduler);
 
     // Most cell references the grid may hold for n boxes (a coarser grid is chosen beyond it).
     static std::size_t max_refs(std::size_t n);

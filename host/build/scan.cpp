@@ -32,23 +32,21 @@ Scan::Scan(ocl::Device& device)
 }
 
 void Scan::scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n, std::size_t depth,
-                      Timeline& timeline, const std::string& stage, int level) {
+                      measure::Scheduler& scheduler, const std::string& stage, int level) {
     // sums_ and offsets_ were sized by exclusive(): growing them here would move the buffers that
     // the callers up the recursion hold references to (in and out at depth > 0).
     const std::size_t blocks = (n + block_size() - 1) / block_size();
     const auto count = static_cast<cl_uint>(n);
     ocl::set_args(blocks_.get(), in, out, count, sums_[depth], overflow_, ocl::LocalMemory{local_ * sizeof(cl_uint)});
-    timeline.add(stage, level, "scan_blocks", blocks * local_, local_,
-                 ocl::enqueue(device_, blocks_.get(), "scan_blocks", blocks * local_, local_));
+    scheduler.launch(stage, level, blocks_.get(), blocks * local_, local_);
     if (blocks == 1) return;  // its only block offset is 0
-    scan_level(sums_[depth], offsets_[depth], blocks, depth + 1, timeline, stage, level);
+    scan_level(sums_[depth], offsets_[depth], blocks, depth + 1, scheduler, stage, level);
     ocl::set_args(add_.get(), out, count, offsets_[depth], overflow_);
-    timeline.add(stage, level, "scan_add", blocks * local_, local_,
-                 ocl::enqueue(device_, add_.get(), "scan_add", blocks * local_, local_));
+    scheduler.launch(stage, level, add_.get(), blocks * local_, local_);
 }
 
 std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n,
-                              Timeline& timeline, const std::string& stage, int level) {
+                              measure::Scheduler& scheduler, const std::string& stage, int level) {
     if (n == 0) return 0;
     if (n > in.size() || n > out.size()) throw std::out_of_range("Scan::exclusive: n exceeds a buffer");
     if (n > 0xffffffffu) throw InputError(fmt::format("a prefix sum over {} values exceeds 2^32 values", n));
@@ -71,7 +69,7 @@ std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uin
         if (blocks == 1) break;
         m = blocks;
     }
-    scan_level(in, out, n, 0, timeline, stage, level);
+    scan_level(in, out, n, 0, scheduler, stage, level);
     out.read_into(last_out, n - 1);
     overflow_.read_into(overflow);
     const std::uint64_t total = std::uint64_t{last_out[0]} + last_in[0];

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "build/timeline.h"
+#include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
 #include "cl/handles.h"
@@ -23,16 +23,16 @@ public:
 
     // out[i] = in[0] + ... + in[i-1] for i < n; returns the total in[0] + ... + in[n-1], which it reads
     // back (one blocking read). in and out may be the same buffer. Throws InputError when a sum does
-    // not fit in 32 bits. Launches are recorded in timeline under (stage, level).
+    // not fit in 32 bits. Launches go through scheduler under (stage, level).
     std::uint64_t exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n,
-                            Timeline& timeline, const std::string& stage, int level);
+                            measure::Scheduler& scheduler, const std::string& stage, int level);
 
     // Values handled by one work-group.
     std::size_t block_size() const { return local_ * 4; }
 
 private:
     void scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n, std::size_t depth,
-                    Timeline& timeline, const std::string& stage, int level);
+                    measure::Scheduler& scheduler, const std::string& stage, int level);
 
     ocl::Device& device_;
     ocl::Program program_;

@@ -83,7 +83,7 @@ struct TreeScratch {
     std::uint64_t bytes() const { return node_parent.bytes() + leaf_parent.bytes() + arrivals.bytes(); }
 };
 
-void BvhBuilder::build_tree(build::Timeline& timeline, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
+void BvhBuilder::build_tree(measure::Scheduler& scheduler, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
                             const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                             std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes,
                             std::size_t slot, ocl::Buffer<cl_uint>& flags) {
@@ -94,14 +94,12 @@ void BvhBuilder::build_tree(build::Timeline& timeline, const std::string& stage,
         ocl::set_args(programs_->hierarchy.get(), keys, count, node_offset, nodes, scratch.node_parent,
                       scratch.leaf_parent);
         const std::size_t global = round_up(n - 1, kGroup);
-        timeline.add(stage, -1, "bvh_hierarchy", global, kGroup,
-                     ocl::enqueue(device_, programs_->hierarchy.get(), "bvh_hierarchy", global, kGroup));
+        scheduler.launch(stage, -1, programs_->hierarchy.get(), global, kGroup);
     }
     ocl::set_args(programs_->refit.get(), leaf_boxes, count, node_offset, nodes, scratch.node_parent,
                   scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot), flags);
     const std::size_t global = round_up(n, kGroup);
-    timeline.add(stage, -1, "bvh_refit", global, kGroup,
-                 ocl::enqueue(device_, programs_->refit.get(), "bvh_refit", global, kGroup));
+    scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
 }
 
 SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBuild> builds) {
@@ -109,7 +107,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
     if (builds.size() != scene.geometries.size())
         throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
     SceneBvh out;
-    build::Timeline timeline;
+    measure::Scheduler scheduler(device_);
 
     // Bottom levels: one tree per geometry, all in one node array.
     std::size_t total_nodes = 0, max_leaves = 1;
@@ -130,9 +128,8 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
         out.roots.push_back(n == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(offset));
         if (n == 0) continue;
         ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), keys, flags);
-        timeline.add("bvh", -1, "bvh_morton_bricks", round_up(n, kGroup), kGroup,
-                     ocl::enqueue(device_, programs_->morton.get(), "bvh_morton_bricks", round_up(n, kGroup), kGroup));
-        build_tree(timeline, "bvh", keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
+        scheduler.launch("bvh", -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
+        build_tree(scheduler, "bvh", keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
         offset += nodes_for(n);
     }
     const cl_uint flag = flags.read()[0];
@@ -200,12 +197,12 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
     ocl::Buffer<cl_ulong> tlas_key_buffer(device_, tlas_keys, CL_MEM_READ_ONLY);
     ocl::Buffer<SdfBounds> tlas_boxes(device_, leaf_boxes, CL_MEM_READ_ONLY);
     TreeScratch tlas_scratch(device_, instances.size());
-    build_tree(timeline, "tlas", tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
+    build_tree(scheduler, "tlas", tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
                builds.size(), flags);
     if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
 
-    out.launches = timeline.resolve();
-    out.device_ms = timeline.total_ms();
+    out.launches = scheduler.resolve();
+    out.device_ms = scheduler.total_ms();
     out.memory["bvh nodes"] = out.nodes->bytes();
     out.memory["tlas nodes"] = out.tlas->bytes() + out.instances->bytes();
     out.memory["bvh scratch"] = keys.bytes() + scratch.bytes();

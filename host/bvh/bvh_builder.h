@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "build/brick_builder.h"
-#include "build/timeline.h"
+#include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
 #include "scene/scene.h"
@@ -29,7 +29,7 @@ struct SceneBvh {
     std::vector<SdfBounds> geometry_boxes;   // per geometry: the box of its bricks (geometry frame)
     std::vector<std::size_t> instance_objects;  // instances[i] is scene object instance_objects[i]
     std::uint64_t node_count = 0, tlas_node_count = 0;
-    std::vector<build::Launch> launches;
+    std::vector<measure::Launch> launches;
     double device_ms = 0.0;
     double host_ms = 0.0;
     std::map<std::string, std::uint64_t> memory;
@@ -50,7 +50,7 @@ public:
 
 private:
     struct Programs;
-    void build_tree(build::Timeline& timeline, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
+    void build_tree(measure::Scheduler& scheduler, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
                     const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                     std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,
                     ocl::Buffer<cl_uint>& flags);

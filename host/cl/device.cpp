@@ -521,6 +521,12 @@ const Program* Device::find_program(std::string_view key) const {
     return it != programs_.end() ? &*it : nullptr;
 }
 
+const Program* Device::find_program(cl_program handle) const {
+    const auto it = std::find_if(programs_.begin(), programs_.end(),
+                                 [&](const Program& p) { return p.get() == handle; });
+    return it != programs_.end() ? &*it : nullptr;
+}
+
 void Device::remember_program(const Program& program) {
     if (find_program(program.record().key) == nullptr) {
         programs_.push_back(program);

@@ -114,6 +114,8 @@ public:
 
     // In-memory program cache, used by build_program.
     const Program* find_program(std::string_view key) const;
+    // The remembered program with this handle (e.g. from CL_KERNEL_PROGRAM), or nullptr.
+    const Program* find_program(cl_program handle) const;
     void remember_program(const Program& program);
 
 private:

@@ -262,6 +262,10 @@ Program build_program(Device& device, std::string_view kernel_file, std::string_
     if (record.correctly_rounded_divide_sqrt) {
         record.options += " -cl-fp32-correctly-rounded-divide-sqrt";
     }
+    if (info.has_extension("cl_nv_device_attribute_query")) {
+        // ptxas --verbose: the build log then holds each kernel's register count (measure/kernel_attributes.h).
+        record.options += " -cl-nv-verbose";
+    }
     if (!extra_options.empty()) {
         record.options += ' ';
         record.options += extra_options;

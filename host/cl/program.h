@@ -2,7 +2,9 @@
 // (per Device) and on disk (binaries keyed by a hash of device, driver, source and options).
 //
 // Every program is built with -cl-std=CL1.2, plus -cl-fp32-correctly-rounded-divide-sqrt where the
-// device supports it, and its source starts with '#pragma OPENCL FP_CONTRACT OFF'. Options that
+// device supports it, plus -cl-nv-verbose on NVIDIA devices (cl_nv_device_attribute_query: the build
+// log then reports each kernel's registers, see measure/kernel_attributes.h), and its source starts
+// with '#pragma OPENCL FP_CONTRACT OFF'. Options that
 // change floating-point results (fast/relaxed math, mad, ...) are refused.
 //
 // Disk cache directory: $SDFBRICK_CACHE_DIR ("off" disables the disk cache), else

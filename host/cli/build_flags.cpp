@@ -15,8 +15,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_option("--format", format, "brick storage: int8, int16 (snorm over +-band) or float")->capture_default_str();
     cmd->add_option("--band", s.band_voxels, "stored distance range in voxels (+-)")->capture_default_str();
     cmd->add_option("--guard", s.guard, "saturation C = band + guard * largest blend radius (see docs/construction.md)")->capture_default_str();
-    cmd->add_option("--chunk", s.chunk, "edits staged per __local chunk (16..256)")->capture_default_str();
-    cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation")->capture_default_str();
+    chunk_ = cmd->add_option("--chunk", s.chunk, "edits staged per __local chunk (16..256; default: tuned for the device, else 64)");
+    group_ = cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation (default: tuned for the device, else 128)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
 }
@@ -28,6 +28,19 @@ build::BuildSettings BuildFlags::resolve() const {
     s.format = *f;
     s.cull = !no_cull;
     return s;
+}
+
+tune::Given BuildFlags::given() const {
+    return {chunk_ != nullptr && chunk_->count() > 0, group_ != nullptr && group_->count() > 0, false};
+}
+
+void MeasureFlags::add_to(CLI::App* cmd, const char* what) {
+    cmd->add_option("--repeat", repeat, fmt::format("captures: {} this many times (per stage: median, min, max, "
+                                                    "coefficient of variation; checks outputs are identical)", what))
+        ->check(CLI::Range(1, 1000))->capture_default_str();
+    cmd->add_option("--warmup", warmup, "uncaptured runs first (default: 1 when --repeat > 1, else 0)")->check(CLI::Range(0, 100));
+    cmd->add_flag("--kernel-stats", kernel_stats, "print a per-kernel table: launches, total ms, share, mean/min/max, "
+                                                  "attributes and occupancy proxies");
 }
 
 nlohmann::json settings_json(const build::BuildSettings& s) {

@@ -2,12 +2,14 @@
 // flags, their parsing and their JSON record.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "build/brick_builder.h"
+#include "tune/apply.h"
 
 namespace sdfbrick::cli {
 
@@ -21,6 +23,22 @@ struct BuildFlags {
     void add_to(CLI::App* cmd);
     // The settings with --format and --no-cull applied; throws InputError for an unknown format.
     build::BuildSettings resolve() const;
+    // Which tuned parameters the command line set (add_to must have run).
+    tune::Given given() const;
+
+private:
+    CLI::Option* chunk_ = nullptr;
+    CLI::Option* group_ = nullptr;
+};
+
+// Repeats and what to report about them: --repeat, --warmup, --kernel-stats.
+struct MeasureFlags {
+    int repeat = 1;
+    std::optional<int> warmup;
+    bool kernel_stats = false;
+
+    void add_to(CLI::App* cmd, const char* what);
+    int warmups() const { return warmup.value_or(repeat > 1 ? 1 : 0); }
 };
 
 nlohmann::json settings_json(const build::BuildSettings& s);

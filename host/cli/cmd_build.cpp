@@ -13,21 +13,18 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
-#include "core/stats.h"
+#include "measure/statistics.h"
 #include "scene/scene_json.h"
 
 namespace sdfbrick::cli {
 
 namespace {
 
-const char* const kStages[] = {"edit_bounds", "dependencies", "count", "scan", "subdivide", "cull", "evaluate", "aabb"};
-
 struct BuildOptions {
     std::string file;
     std::optional<double> time;
     BuildFlags flags;
-    build::BuildSettings settings;  // flags resolved
-    int repeat = 1;
+    MeasureFlags measure;
     std::optional<std::string> json;
 };
 
@@ -39,52 +36,48 @@ std::string bytes_text(std::uint64_t b) {
 }
 
 struct DeviceRun {
-    std::vector<build::GeometryBuild> builds;  // last repeat
-    std::vector<double> repeat_ms;
+    build::BuildSettings settings;  // with the tuning applied
+    tune::Applied tuning;
+    std::vector<build::GeometryBuild> builds;  // last capture
+    std::vector<measure::Capture> captures;
+    std::vector<measure::StageStats> stages;
+    measure::Spread total;
+    std::vector<measure::KernelRow> kernels;
     std::string digest, list_digest;
     bool repeats_identical = true;
 };
 
-DeviceRun run_device(ocl::Device& device, const Scene& scene, const BuildOptions& o) {
+DeviceRun run_device(ocl::Device& device, const Scene& scene, const BuildOptions& o, const tune::TuningDb* db) {
     build::BrickBuilder builder(device);
     DeviceRun run;
-    for (int r = 0; r < o.repeat; ++r) {
+    run.settings = o.flags.resolve();
+    run.tuning = tune::apply_tuning(db, device.info(), o.flags.given(), run.settings, nullptr);
+    run.settings.validate(device.info());
+    for (int r = 0; r < o.measure.warmups() + o.measure.repeat; ++r) {
         std::vector<build::GeometryBuild> builds;
-        double ms = 0.0;
+        measure::Capture capture;
         Fnv1a64 digest, lists;
         for (const Geometry& g : scene.geometries) {
-            builds.push_back(builder.build(g, o.settings));
-            ms += builds.back().device_ms;
-            digest.add_part(build::output_digest(builds.back(), o.settings));
+            builds.push_back(builder.build(g, run.settings));
+            capture.insert(capture.end(), builds.back().launches.begin(), builds.back().launches.end());
+            digest.add_part(build::output_digest(builds.back(), run.settings));
             lists.add_part(build::list_digest(builds.back()));
         }
-        run.repeat_ms.push_back(ms);
-        if (r > 0 && digest.hex() != run.digest) run.repeats_identical = false;
+        if (r < o.measure.warmups()) continue;
+        run.captures.push_back(std::move(capture));
+        if (run.captures.size() > 1 && digest.hex() != run.digest) run.repeats_identical = false;
         run.digest = digest.hex();
         run.list_digest = lists.hex();
         run.builds = std::move(builds);
     }
+    run.stages = measure::stage_stats(run.captures);
+    run.total = measure::total_stats(run.captures);
+    run.kernels = measure::kernel_rows(run.captures, device.info());
     return run;
 }
 
-nlohmann::json stages_json(const std::vector<build::GeometryBuild>& builds) {
-    nlohmann::json stages = nlohmann::json::array();
-    for (const char* stage : kStages) {
-        double ms = 0.0;
-        std::size_t launches = 0;
-        for (const auto& b : builds)
-            for (const auto& l : b.launches)
-                if (l.stage == stage) {
-                    ms += l.device_ms;
-                    ++launches;
-                }
-        if (launches > 0) stages.push_back({{"name", stage}, {"device_ms", ms}, {"launches", launches}});
-    }
-    return stages;
-}
-
-std::string report_text(const ocl::Device& device, const DeviceRun& run) {
-    std::string s = fmt::format("device {} [{}]\n", device.info().index, device.info().name);
+std::string report_text(const ocl::Device& device, const DeviceRun& run, const BuildOptions& o) {
+    std::string s = fmt::format("device {} [{}]\n  {}\n", device.info().index, device.info().name, run.tuning.text);
     for (const auto& b : run.builds) {
         s += fmt::format("  geometry {}: {} leaf bricks of {} ({} levels), C = {:.4g}, band +-{:.4g}\n", b.name,
                          b.leaf_count, b.leaf_size, b.levels, b.clamp_c, b.band);
@@ -101,17 +94,15 @@ std::string report_text(const ocl::Device& device, const DeviceRun& run) {
         s += "    memory: " + mem + "\n";
     }
     std::string stages;
-    double total = 0.0;
-    for (const auto& st : stages_json(run.builds)) {
-        stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", st["name"].get<std::string>(), st["device_ms"].get<double>());
-        total += st["device_ms"].get<double>();
+    for (const auto& st : run.stages) stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", st.name, st.ms.median);
+    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms\n", run.captures.size() > 1 ? ", medians" : "", stages,
+                     run.total.median);
+    if (run.captures.size() > 1) {
+        s += fmt::format("  total over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n",
+                         run.captures.size(), run.total.median, run.total.min, run.total.max, 100.0 * run.total.cv);
+        s += measure::stage_table_text(run.stages, run.repeats_identical);
     }
-    s += fmt::format("  stages (device ms): {}; total {:.3f} ms\n", stages, total);
-    if (run.repeat_ms.size() > 1) {
-        const auto [lo, hi] = std::minmax_element(run.repeat_ms.begin(), run.repeat_ms.end());
-        s += fmt::format("  {} repeats: median {:.3f} ms, min {:.3f}, max {:.3f}; outputs identical: {}\n",
-                         run.repeat_ms.size(), median(run.repeat_ms), *lo, *hi, run.repeats_identical ? "yes" : "NO");
-    }
+    if (o.measure.kernel_stats) s += measure::kernel_table_text(run.kernels);
     s += fmt::format("  digest {} (edit lists {})\n", run.digest, run.list_digest);
     return s;
 }
@@ -136,9 +127,7 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
                               {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
                               {"cull_ms", l.cull_ms}});
         nlohmann::json launches = nlohmann::json::array();
-        for (const auto& l : b.launches)
-            launches.push_back({{"stage", l.stage}, {"level", l.level}, {"kernel", l.kernel}, {"global", l.global},
-                                {"local", l.local}, {"device_ms", l.device_ms}, {"queue_ms", l.queue_ms}});
+        for (const auto& l : b.launches) launches.push_back(measure::to_json(l));
         geometries.push_back({{"name", b.name}, {"bricks", b.leaf_count}, {"levels", levels},
                               {"origin", {b.origin.x, b.origin.y, b.origin.z}}, {"leaf_size", b.leaf_size},
                               {"clamp_c", b.clamp_c}, {"band", b.band},
@@ -147,18 +136,20 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
                               {"memory", b.memory}, {"device_ms", b.device_ms}, {"host_ms", b.host_ms},
                               {"launches", launches}});
     }
-    const double ms = run.repeat_ms.back();
+    const double ms = run.total.median;
     const double seconds = ms * 1e-3;
-    const auto [lo, hi] = std::minmax_element(run.repeat_ms.begin(), run.repeat_ms.end());
     return {{"device", device.info().to_json()},
+            {"settings", settings_json(run.settings)},
+            {"tuning", run.tuning.record},
             {"bricks", bricks},
             {"digest", run.digest},
             {"list_digest", run.list_digest},
-            {"stages", stages_json(run.builds)},
+            {"stages", measure::to_json(run.stages)},
             {"device_ms", ms},
             {"host_ms", host_ms},
-            {"repeats", {{"device_ms", run.repeat_ms}, {"median_ms", median(run.repeat_ms)}, {"min_ms", *lo},
-                         {"max_ms", *hi}, {"identical", run.repeats_identical}}},
+            {"total_ms", measure::to_json(run.total)},
+            {"captures", {{"repeat", run.captures.size()}, {"identical", run.repeats_identical}}},
+            {"kernels", measure::to_json(run.kernels)},
             {"memory", memory},
             {"edits_per_leaf", {{"mean", bricks ? static_cast<double>(entries) / static_cast<double>(bricks) : 0.0}, {"max", max_edits}}},
             {"edit_evaluations", evaluations},
@@ -169,24 +160,24 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
 
 void run_build(BuildOptions o, const GlobalOptions& global) {
     apply_global_options(global);
-    o.settings = o.flags.resolve();
+    const build::BuildSettings settings = o.flags.resolve();
     const Scene file_scene = load_scene(o.file);
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
-    o.settings.validate(devices[0].info());
+    const TuningChoice tuning = open_tuning(global);
 
-    std::string text = fmt::format("build {} ({}), t = {} s: brick size {}, branching {}, {}^3 samples, {}, chunk {}, "
-                                   "group {}, culling {}{}, guard {}\n",
-                                   scene.name, o.file, t, o.settings.leaf_size, o.settings.branching, o.settings.samples,
-                                   build::to_string(o.settings.format), o.settings.chunk, o.settings.eval_group, o.settings.cull ? "on" : "off",
-                                   o.settings.dependencies ? " with dependencies" : "", o.settings.guard);
+    std::string text = fmt::format("build {} ({}), t = {} s: brick size {}, branching {}, {}^3 samples, {}, "
+                                   "culling {}{}, guard {}\n",
+                                   scene.name, o.file, t, settings.leaf_size, settings.branching, settings.samples,
+                                   build::to_string(settings.format), settings.cull ? "on" : "off",
+                                   settings.dependencies ? " with dependencies" : "", settings.guard);
     nlohmann::json device_reports = nlohmann::json::array();
     std::string first_digest, first_lists;
     bool agree = true, lists_agree = true;
     for (ocl::Device& device : devices) {
-        const DeviceRun run = run_device(device, scene, o);
-        text += report_text(device, run);
+        const DeviceRun run = run_device(device, scene, o, tuning.get());
+        text += report_text(device, run, o);
         device_reports.push_back(device_json(device, run));
         if (first_digest.empty()) {
             first_digest = run.digest;
@@ -204,8 +195,11 @@ void run_build(BuildOptions o, const GlobalOptions& global) {
         nlohmann::json report = {
             {"command", "build"},
             {"scene", {{"file", o.file}, {"name", scene.name}, {"time", t}, {"geometries", scene.geometries.size()}}},
-            {"settings", settings_json(o.settings)},
-            {"repeat", o.repeat},
+            {"settings", first["settings"]},
+            {"tuning", first["tuning"]},
+            {"tuning_db", tuning.path ? nlohmann::json(tuning.path->string()) : nlohmann::json(nullptr)},
+            {"repeat", o.measure.repeat},
+            {"warmup", o.measure.warmups()},
             {"bricks", first["bricks"]},
             {"digest", first["digest"]},
             {"stages", first["stages"]},
@@ -228,8 +222,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("file", o->file, "scene file (JSON)")->required();
     cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)");
     o->flags.add_to(cmd);
-    cmd->add_option("--repeat", o->repeat, "build this many times (reports median, min, max; checks outputs are identical)")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
+    o->measure.add_to(cmd, "build");
     cmd->add_option("--json", o->json, "write a JSON report here");
     cmd->callback([o, &global] { run_build(*o, global); });
 }

@@ -128,10 +128,6 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
 
 }  // namespace
 
-void apply_global_options(const GlobalOptions& global) {
-    if (global.kernel_dir) ocl::set_kernel_dir(std::filesystem::path(*global.kernel_dir));
-}
-
 void add_eval_command(CLI::App& app, const GlobalOptions& global) {
     auto o = std::make_shared<EvalOptions>();
     auto* cmd = app.add_subcommand(

@@ -19,6 +19,7 @@
 #include "render/accuracy.h"
 #include "render/brick_tracer.h"
 #include "render/pictures.h"
+#include "render/pipeline.h"
 #include "render/reference_render.h"
 #include "scene/scene_json.h"
 
@@ -39,16 +40,10 @@ struct RenderOptions {
     std::optional<std::string> out;
     bool reference = false;
     bool compare = false;
-    int repeat = 1;
+    MeasureFlags measure;
+    bool trace_group_given = false;
     std::optional<std::string> json;
 };
-
-std::string buffer_digest(const render::RenderBuffer& b) {
-    return Fnv1a64()
-        .add_values(std::span<const cl_float4>(b.hit))
-        .add_values(std::span<const cl_uint2>(b.aux))
-        .hex();
-}
 
 bool float_format(const std::filesystem::path& p) {
     const std::string e = p.extension().string();
@@ -92,7 +87,8 @@ struct DeviceRender {
 };
 
 DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
-                       const build::BuildSettings& settings, bool check_trees, std::string& text) {
+                       const build::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_trees,
+                       std::string& text) {
     DeviceRender r;
     const SdfCamera camera = render::make_camera(scene.camera, o.trace.width, o.trace.height);
     const double pixels = static_cast<double>(o.trace.width) * o.trace.height;
@@ -100,44 +96,50 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
     r.json = {{"device", device.info().to_json()}};
     nlohmann::json stages = nlohmann::json::array();
     if (!o.reference) {
-        build::BrickBuilder builder(device);
-        bvh::BvhBuilder bvh_builder(device);
-        render::BrickTracer tracer(device);
-        const render::SceneBricks bricks = render::build_scene_bricks(builder, bvh_builder, scene, settings);
-        std::vector<double> trace_ms, shade_ms;
-        bool identical = true;
-        for (int i = 0; i < o.repeat; ++i) {
-            render::TraceResult t = tracer.render(scene, bricks, camera, o.trace);
-            trace_ms.push_back(t.trace_ms);
-            shade_ms.push_back(t.shade_ms);
-            const std::string digest = buffer_digest(t.buffer);
-            if (i > 0 && digest != r.digest) identical = false;
-            r.digest = digest;
-            r.buffer = std::move(t.buffer);
-            r.shaded = std::move(t.colour);
-        }
-        const double trace = median(trace_ms), shade = median(shade_ms);
-        stages.push_back({{"name", "build"}, {"device_ms", bricks.build_ms}});
-        stages.push_back({{"name", "bvh"}, {"device_ms", bricks.bvh.device_ms}});
-        stages.push_back({{"name", "trace"}, {"device_ms", trace}});
-        if (o.trace.shade) stages.push_back({{"name", "shade"}, {"device_ms", shade}});
+        build::BuildSettings settings = base_settings;
+        render::TraceSettings trace = o.trace;
+        tune::Given given = o.flags.given();
+        given.trace_group = o.trace_group_given;
+        const tune::Applied tuning = tune::apply_tuning(tuning_db, device.info(), given, settings, &trace);
+        text += "  " + tuning.text + "\n";
+        r.json["tuning"] = tuning.record;
+        render::Pipeline pipeline(device);
+        render::PipelineRun run = pipeline.run(scene, settings, trace, o.measure.warmups(), o.measure.repeat);
+        const render::SceneBricks& bricks = run.bricks;
+        r.digest = run.trace_digest;
+        r.buffer = std::move(run.trace->buffer);
+        r.shaded = std::move(run.trace->colour);
+        const double trace_ms = run.trace_ms.median;
         std::map<std::string, std::uint64_t> memory = bricks.bvh.memory;
         for (const auto& b : bricks.builds)
             for (const auto& [k, v] : b.memory) memory[k] += v;
         if (bricks.combined_pool) memory["combined pool"] = bricks.combined_pool->bytes();
         const render::WorkCounts work = render::work_counts(r.buffer);
-        const auto [lo, hi] = std::minmax_element(trace_ms.begin(), trace_ms.end());
+        stages = measure::to_json(run.stages);
+        r.json["settings"] = settings_json(settings);
+        r.json["trace_group"] = {trace.group_x, trace.group_y};
         r.json["stages"] = stages;
+        r.json["build_ms"] = measure::to_json(run.build_ms);
+        r.json["bvh_ms"] = measure::to_json(run.bvh_ms);
+        r.json["trace_ms"] = measure::to_json(run.trace_ms);
+        r.json["captures"] = {{"warmup", o.measure.warmups()}, {"repeat", o.measure.repeat}, {"identical", run.identical}};
         r.json["bricks"] = bricks.bricks;
         r.json["bvh"] = {{"nodes", bricks.bvh.node_count}, {"tlas_nodes", bricks.bvh.tlas_node_count},
                          {"instances", bricks.bvh.instance_objects.size()}, {"device_ms", bricks.bvh.device_ms}};
         r.json["memory"] = memory;
-        r.json["rays_per_second"] = trace > 0 ? pixels / (trace * 1e-3) : 0.0;
-        r.json["trace_repeats"] = {{"device_ms", trace_ms}, {"median_ms", trace}, {"min_ms", *lo}, {"max_ms", *hi},
-                                   {"identical", identical}};
+        r.json["rays_per_second"] = trace_ms > 0 ? pixels / (trace_ms * 1e-3) : 0.0;
         r.json["work_per_pixel"] = {{"node_visits", work.node_visits}, {"brick_steps", work.brick_steps}};
         r.json["digest"] = r.digest;
         r.json["voxel_world"] = bricks.voxel_world;
+        const std::vector<measure::KernelRow> kernels = measure::kernel_rows(run.captures, device.info());
+        r.json["kernels"] = measure::to_json(kernels);
+        text += fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
+                            "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
+                            run.build_ms.median, bricks.bricks, run.bvh_ms.median, bricks.bvh.node_count, trace_ms,
+                            pixels / (trace_ms * 1e-3), work.node_visits, work.brick_steps,
+                            trace.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(run.stages, "shade")) : "");
+        if (o.measure.repeat > 1) text += measure::stage_table_text(run.stages, run.identical);
+        if (o.measure.kernel_stats) text += measure::kernel_table_text(kernels);
         if (check_trees) {  // several devices: the trees must agree too (and be valid)
             const std::vector<SdfBvhNode> nodes = bricks.bvh.nodes->read();
             r.json["bvh_digest"] = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
@@ -150,14 +152,6 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
             r.json["bvh_valid"] = problems.empty();
             if (!problems.empty()) text += "  BVH INVALID: " + problems + "\n";
         }
-        text += fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
-                            "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
-                            bricks.build_ms, bricks.bricks, bricks.bvh.device_ms, bricks.bvh.node_count, trace,
-                            pixels / (trace * 1e-3), work.node_visits, work.brick_steps,
-                            o.trace.shade ? fmt::format(", shade {:.3f} ms", shade) : "");
-        if (o.repeat > 1)
-            text += fmt::format("  {} traces: median {:.3f} ms, min {:.3f}, max {:.3f}; identical: {}\n", o.repeat,
-                                trace, *lo, *hi, identical ? "yes" : "NO");
         if (o.compare) {
             render::ReferenceTracer ref(device);
             r.reference = ref.render(scene, camera);
@@ -176,7 +170,7 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
         render::ReferenceTracer ref(device);
         r.reference = ref.render(scene, camera);
         r.buffer = r.reference->image;
-        r.digest = buffer_digest(r.buffer);
+        r.digest = render::buffer_digest(r.buffer);
         r.json["digest"] = r.digest;
     }
     if (r.reference) {
@@ -236,7 +230,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
-    settings.validate(devices[0].info());
+    const TuningChoice tuning = open_tuning(global);
     const std::filesystem::path out = o.out.value_or(fmt::format("{}-{}.{}", scene.name.empty() ? "scene" : scene.name,
                                                                  o.mode, image_io_has_oiio() ? "png" : "ppm"));
 
@@ -250,7 +244,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     nlohmann::json device_reports = nlohmann::json::array();
     bool agree = true;
     for (ocl::Device& device : devices) {
-        runs.push_back(render_on(device, scene, o, settings, devices.size() > 1, text));
+        runs.push_back(render_on(device, scene, o, settings, tuning.get(), devices.size() > 1, text));
         device_reports.push_back(runs.back().json);
         if (runs.size() > 1) {
             const std::string diff = difference_text(runs.front().buffer, runs.back().buffer);
@@ -274,10 +268,10 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
         text += fmt::format("reference image: {}, difference image: {}\n", ref_path.string(), diff_path.string());
     }
     if (o.json) {
-        nlohmann::json settings_record = settings_json(settings);
+        nlohmann::json settings_record = first.json.value("settings", settings_json(settings));
         settings_record.update({{"width", o.trace.width}, {"height", o.trace.height}, {"mode", o.mode},
                                 {"method", o.method}, {"normals", o.normals}, {"reference", o.reference},
-                                {"group", {o.trace.group_x, o.trace.group_y}}, {"repeat", o.repeat}});
+                                {"repeat", o.measure.repeat}, {"warmup", o.measure.warmups()}});
         if (o.trace.shade) settings_record.update({{"shadow_rays", o.trace.shadow_rays}, {"ao_rays", o.trace.ao_rays}});
         nlohmann::json report = {
             {"command", "render"},
@@ -287,7 +281,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
             {"images", images},
             {"devices", device_reports},
             {"devices_agree", agree}};
-        for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "digest"})
+        for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "digest", "tuning"})
             if (first.json.contains(key)) report[key] = first.json[key];
         write_file_atomic(*o.json, format_json(report));
         text += fmt::format("report: {}\n", *o.json);
@@ -313,14 +307,17 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_flag("--reference", o->reference, "render with the reference tracer (analytic edits) instead of bricks");
     cmd->add_flag("--compare", o->compare, "also render the reference and report accuracy; writes -reference and "
                                            "-difference images beside --out");
-    cmd->add_option("--repeat", o->repeat, "trace this many times (median, min, max; checks outputs are identical)")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
-    cmd->add_option("--group-x", o->trace.group_x, "trace work-group width")->capture_default_str();
-    cmd->add_option("--group-y", o->trace.group_y, "trace work-group height")->capture_default_str();
+    o->measure.add_to(cmd, "build, BVH and trace");
+    auto* gx = cmd->add_option("--group-x", o->trace.group_x, "trace work-group width (default: tuned for the device, else 16)");
+    auto* gy = cmd->add_option("--group-y", o->trace.group_y, "trace work-group height (default: tuned for the device, else 8)");
+
     cmd->add_option("--shadow-rays", o->trace.shadow_rays, "shaded mode: shadow rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
     cmd->add_option("--ao-rays", o->trace.ao_rays, "shaded mode: ambient occlusion rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
     cmd->add_option("--json", o->json, "write a JSON report here");
-    cmd->callback([o, &global] { run_render(*o, global); });
+    cmd->callback([o, gx, gy, &global] {
+        o->trace_group_given = gx->count() > 0 || gy->count() > 0;
+        run_render(*o, global);
+    });
 }
 
 }  // namespace sdfbrick::cli

@@ -1,10 +1,13 @@
 // The CLI's verbs. main.cpp builds the command line (CLI11) and maps errors to exit codes.
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
+
+#include "tune/tuning_db.h"
 
 namespace sdfbrick::cli {
 
@@ -12,15 +15,29 @@ namespace sdfbrick::cli {
 struct GlobalOptions {
     std::string device;  // device spec; empty = SDFBRICK_DEVICE or the default (first GPU, else device 0)
     std::optional<std::string> kernel_dir;
+    std::optional<std::string> tuning_db;  // tuning database file (default: tune::TuningDb::default_path())
+    bool no_tuning = false;                // ignore the tuning database
 };
 
 // Applies options that change library state (kernel directory). Verbs that use a device call it.
 void apply_global_options(const GlobalOptions& global);
+
+// The tuning database a run reads (and `tune` writes): --tuning-db, else the default path; no
+// database with --no-tuning or when the default is off. A missing file is an empty database.
+struct TuningChoice {
+    std::optional<std::filesystem::path> path;
+    std::optional<tune::TuningDb> db;
+    const tune::TuningDb* get() const { return db ? &*db : nullptr; }
+};
+TuningChoice open_tuning(const GlobalOptions& global);
 
 void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_scene_commands(CLI::App& app, const GlobalOptions& global);
 void add_eval_command(CLI::App& app, const GlobalOptions& global);
 void add_build_command(CLI::App& app, const GlobalOptions& global);
 void add_render_command(CLI::App& app, const GlobalOptions& global);
+void add_sweep_commands(CLI::App& app, const GlobalOptions& global);  // sweep, merge
+void add_tune_command(CLI::App& app, const GlobalOptions& global);
+void add_compare_command(CLI::App& app);
 
 }  // namespace sdfbrick::cli

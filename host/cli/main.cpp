@@ -23,11 +23,18 @@ int main(int argc, char** argv) {
     app.add_option("--kernel-dir", global.kernel_dir,
                    "load kernel sources from this directory instead of the copies built into the binary "
                    "(also $SDFBRICK_KERNEL_DIR)");
+    app.add_option("--tuning-db", global.tuning_db,
+                   "tuning database to read (and, for tune, to write); default: $SDFBRICK_TUNING_DB, else "
+                   "$XDG_CONFIG_HOME/sdfbrick/tuning.json or ~/.config/sdfbrick/tuning.json");
+    app.add_flag("--no-tuning", global.no_tuning, "ignore the tuning database: built-in defaults for every parameter not given");
     cli::add_devices_command(app, global);
     cli::add_scene_commands(app, global);
     cli::add_eval_command(app, global);
     cli::add_build_command(app, global);
     cli::add_render_command(app, global);
+    cli::add_sweep_commands(app, global);
+    cli::add_tune_command(app, global);
+    cli::add_compare_command(app);
 
     try {
         app.parse(argc, argv);

@@ -9,6 +9,7 @@
 
 #include "cl/buffer.h"
 #include "cl/launch.h"
+#include "measure/scheduler.h"
 #include "core/errors.h"
 #include "reference/reference_field.h"
 
@@ -38,11 +39,12 @@ FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::sp
     ocl::set_args(kernel_.get(), edit_buf, static_cast<cl_uint>(edits.size()), point_buf, static_cast<cl_uint>(n), out_buf);
     const std::size_t local = 64;
     const std::size_t global = (n + local - 1) / local * local;
-    const ocl::Event event = ocl::enqueue(device_, kernel_.get(), "eval_points", global, local);
+    measure::Scheduler scheduler(device_);
+    scheduler.launch("eval", -1, kernel_.get(), global, local);
     out_buf.read_into(result.values);
-    const ocl::EventTimes t = ocl::event_times(event);
-    result.device_ms = t.start_to_end_ms;
-    result.queue_ms = t.queued_to_start_ms;
+    const measure::Launch& launch = scheduler.resolve().front();
+    result.device_ms = launch.device_ms;
+    result.queue_ms = launch.queue_ms;
     return result;
 }
 

@@ -132,11 +132,10 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
     ocl::Buffer<cl_uint2> aux(device_, pixels);
     const std::array<std::size_t, 3> global{(settings.width + gx - 1) / gx * gx, (settings.height + gy - 1) / gy * gy, 1};
     const std::array<std::size_t, 3> local{gx, gy, 1};
-    build::Timeline timeline;
+    measure::Scheduler scheduler(device_);
     ocl::set_args(k.trace.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
                   bricks.pool(), hit, aux);
-    timeline.add("trace", -1, "trace_primary", global[0] * global[1], gx * gy,
-                 ocl::enqueue(device_, k.trace.get(), "trace_primary", global, local, 2));
+    scheduler.launch("trace", -1, k.trace.get(), global, local, 2);
     std::optional<ocl::Buffer<cl_float4>> colour;
     if (settings.shade) {
         const SdfShading shading = make_shading(scene, bricks, settings);
@@ -144,13 +143,12 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         colour.emplace(device_, pixels);
         ocl::set_args(k.shade.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
                       *bricks.bvh.nodes, bricks.pool(), sh, hit, *colour);
-        timeline.add("shade", -1, "shade", global[0] * global[1], gx * gy,
-                     ocl::enqueue(device_, k.shade.get(), "shade", global, local, 2));
+        scheduler.launch("shade", -1, k.shade.get(), global, local, 2);
     }
     TraceResult out;
-    out.launches = timeline.resolve();
-    out.trace_ms = timeline.stage_ms("trace");
-    out.shade_ms = timeline.stage_ms("shade");
+    out.launches = scheduler.resolve();
+    out.trace_ms = scheduler.stage_ms("trace");
+    out.shade_ms = scheduler.stage_ms("shade");
     out.buffer = RenderBuffer(settings.width, settings.height);
     hit.read_into(out.buffer.hit);
     aux.read_into(out.buffer.aux);

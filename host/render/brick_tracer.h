@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "build/brick_builder.h"
-#include "build/timeline.h"
+#include "measure/scheduler.h"
 #include "bvh/bvh_builder.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
@@ -65,7 +65,7 @@ struct TraceResult {
     Image colour;            // shaded mode only
     double trace_ms = 0.0;   // device time of the primary rays
     double shade_ms = 0.0;   // device time of shading and its secondary rays
-    std::vector<build::Launch> launches;
+    std::vector<measure::Launch> launches;
 };
 
 // Light, penumbra and occlusion radius for the shaded mode, from the scene's light and size.

@@ -11,6 +11,7 @@
 
 #include "cl/buffer.h"
 #include "cl/launch.h"
+#include "measure/scheduler.h"
 #include "core/errors.h"
 #include "render/edit_bvh.h"
 
@@ -247,11 +248,11 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
                   static_cast<cl_uint>(settings.exact_field ? 1 : 0), hit_buf, aux_buf, count_buf);
     const std::array<std::size_t, 3> global{(static_cast<std::size_t>(width) + kTile - 1) / kTile * kTile,
                                             (static_cast<std::size_t>(height) + kTile - 1) / kTile * kTile, 1};
-    const ocl::Event event = ocl::enqueue(device_, kernel_.get(), "reference_trace", global,
-                                          std::array<std::size_t, 3>{kTile, kTile, 1}, 2);
-    const ocl::EventTimes times = ocl::event_times(event, "kernel reference_trace");
-    result.device_ms = times.start_to_end_ms;
-    result.queue_ms = times.queued_to_start_ms;
+    measure::Scheduler scheduler(device_);
+    scheduler.launch("reference", -1, kernel_.get(), global, std::array<std::size_t, 3>{kTile, kTile, 1}, 2);
+    const measure::Launch& launch = scheduler.resolve().front();
+    result.device_ms = launch.device_ms;
+    result.queue_ms = launch.queue_ms;
 
     hit_buf.read_into(result.image.hit);
     aux_buf.read_into(result.image.aux);

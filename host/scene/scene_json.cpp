@@ -405,10 +405,16 @@ private:
 
 }  // namespace
 
-Scene parse_scene(std::string_view text, std::string_view origin) {
+json parse_json_text(std::string_view text, std::string_view origin) {
     PathTracker tracker(text, origin);
     if (!json::sax_parse(text.begin(), text.end(), &tracker)) throw InputError(tracker.error);
-    return scene_from_json(json::parse(text.begin(), text.end()), origin);
+    return json::parse(text.begin(), text.end());
+}
+
+json load_json(const std::filesystem::path& path) { return parse_json_text(read_file(path), path.string()); }
+
+Scene parse_scene(std::string_view text, std::string_view origin) {
+    return scene_from_json(parse_json_text(text, origin), origin);
 }
 
 Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_file(path), path.string()); }

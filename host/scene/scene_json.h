@@ -25,6 +25,11 @@ nlohmann::json scene_to_json(const Scene& s);
 std::string format_scene(const Scene& s);
 void save_scene(const Scene& s, const std::filesystem::path& path);
 
+// Any JSON file (sweep files, reports), with the scene loader's error messages (file, JSON path,
+// line and column).
+nlohmann::json parse_json_text(std::string_view text, std::string_view origin);
+nlohmann::json load_json(const std::filesystem::path& path);
+
 // JSON text with scalar arrays and small flat objects on one line (used for scenes and reports).
 std::string format_json(const nlohmann::json& j, int indent = 2);
 

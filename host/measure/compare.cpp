@@ -1,0 +1,104 @@
+#include "measure/compare.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace sdfbrick::measure {
+
+namespace {
+
+struct Side {
+    std::string device;
+    nlohmann::json stages;
+};
+
+std::vector<Side> sides(const nlohmann::json& report, const char* which) {
+    std::vector<Side> out;
+    if (report.contains("devices") && report["devices"].is_array())
+        for (const auto& d : report["devices"])
+            if (d.contains("stages")) out.push_back({d.contains("device") ? d["device"].value("name", "?") : "?", d["stages"]});
+    if (out.empty() && report.contains("stages")) out.push_back({"", report["stages"]});
+    if (out.empty()) throw InputError(fmt::format("{}: no per-stage times (expected a build or render --json report)", which));
+    return out;
+}
+
+void range(const nlohmann::json& s, double& median, double& lo, double& hi) {
+    median = s.value("median_ms", s.value("device_ms", 0.0));
+    lo = s.value("min_ms", median);
+    hi = s.value("max_ms", median);
+}
+
+void add_pair(const Side& a, const Side& b, std::vector<StageDelta>& out) {
+    const std::string device = a.device == b.device ? a.device : a.device + " -> " + b.device;
+    std::vector<std::string> names;
+    for (const auto* side : {&a, &b})
+        for (const auto& s : side->stages)
+            if (std::find(names.begin(), names.end(), s.value("name", "")) == names.end()) names.push_back(s.value("name", ""));
+    StageDelta total{device, "total"};
+    for (const std::string& name : names) {
+        StageDelta d{device, name};
+        d.in_a = d.in_b = false;
+        for (const auto& s : a.stages)
+            if (s.value("name", "") == name) {
+                range(s, d.a_median, d.a_min, d.a_max);
+                d.in_a = true;
+            }
+        for (const auto& s : b.stages)
+            if (s.value("name", "") == name) {
+                range(s, d.b_median, d.b_min, d.b_max);
+                d.in_b = true;
+            }
+        total.a_median += d.a_median;
+        total.b_median += d.b_median;
+        total.a_min += d.a_min;
+        total.a_max += d.a_max;
+        total.b_min += d.b_min;
+        total.b_max += d.b_max;
+        out.push_back(d);
+    }
+    out.push_back(total);  // the sum of ranges bounds the total's range
+}
+
+}  // namespace
+
+std::vector<StageDelta> compare_reports(const nlohmann::json& a, const nlohmann::json& b) {
+    const std::vector<Side> sa = sides(a, "A"), sb = sides(b, "B");
+    std::vector<StageDelta> out;
+    if (sa.size() == 1 && sb.size() == 1) {
+        add_pair(sa[0], sb[0], out);
+        return out;
+    }
+    for (const Side& x : sa)
+        for (const Side& y : sb)
+            if (x.device == y.device) add_pair(x, y, out);
+    if (out.empty()) throw InputError("compare: the reports share no device name");
+    return out;
+}
+
+std::string compare_text(const std::vector<StageDelta>& deltas) {
+    std::string s = fmt::format("{:<14} {:>22} {:>22} {:>10} {:>8}  {}\n", "stage", "A median [min, max] ms",
+                                "B median [min, max] ms", "delta ms", "delta", "");
+    std::string device = "\x01";
+    std::size_t flagged = 0;
+    for (const StageDelta& d : deltas) {
+        if (d.device != device) {
+            device = d.device;
+            if (!device.empty()) s += fmt::format("device {}\n", device);
+        }
+        const auto side = [](bool present, double m, double lo, double hi) {
+            return present ? fmt::format("{:.4f} [{:.4f}, {:.4f}]", m, lo, hi) : std::string("absent");
+        };
+        const char* mark = !d.in_a || !d.in_b ? "only in one report" : d.significant() ? (d.delta_ms() > 0 ? "SLOWER" : "FASTER") : "";
+        flagged += d.stage != "total" && d.significant();
+        s += fmt::format("{:<14} {:>22} {:>22} {:>+10.4f} {:>+7.1f}%  {}\n", d.stage, side(d.in_a, d.a_median, d.a_min, d.a_max),
+                         side(d.in_b, d.b_median, d.b_min, d.b_max), d.delta_ms(), 100.0 * d.delta_fraction(), mark);
+    }
+    s += fmt::format("{} stage(s) changed by more than the runs' own spread (their [min, max] ranges do not overlap); "
+                     "a report of one capture has no spread: use --repeat\n", flagged);
+    return s;
+}
+
+}  // namespace sdfbrick::measure

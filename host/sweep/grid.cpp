@@ -1,0 +1,182 @@
+#include "sweep/grid.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+
+namespace sdfbrick::sweep {
+
+namespace {
+
+template <class T>
+std::vector<std::optional<T>> or_default(const std::vector<T>& v) {
+    if (v.empty()) return {std::nullopt};
+    return {v.begin(), v.end()};
+}
+
+template <class T>
+void check_each(const std::vector<T>& values, const char* key, auto&& ok, const char* expected) {
+    for (const T& v : values)
+        if (!ok(v)) throw InputError(fmt::format("sweep: \"{}\" has {}; expected {}", key, nlohmann::json(v).dump(), expected));
+}
+
+template <class T>
+std::vector<T> list(const nlohmann::json& j, const char* key, const std::string& where) {
+    if (!j.contains(key)) return {};
+    const nlohmann::json& v = j.at(key);
+    try {
+        if (v.is_array()) return v.get<std::vector<T>>();
+        return {v.get<T>()};
+    } catch (const nlohmann::json::exception&) {
+        throw InputError(fmt::format("{}: \"{}\" must be a value or a list of values, got {}", where, key, v.dump()));
+    }
+}
+
+}  // namespace
+
+std::pair<int, int> parse_group_2d(const std::string& text, const std::string& what) {
+    const auto x = text.find('x');
+    int a = 0, b = 0;
+    const auto parse = [](std::string_view s, int& out) {
+        const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
+        return r.ec == std::errc() && r.ptr == s.data() + s.size() && out > 0;
+    };
+    if (x == std::string::npos || !parse(std::string_view(text).substr(0, x), a) ||
+        !parse(std::string_view(text).substr(x + 1), b))
+        throw InputError(fmt::format("{}: \"{}\" is not a work-group size WxH such as 16x8", what, text));
+    return {a, b};
+}
+
+void SweepSpec::validate() const {
+    if (scenes.empty()) throw InputError("sweep: no scene given (\"scenes\" or --scenes)");
+    check_each(brick_sizes, "brick_sizes", [](double v) { return std::isfinite(v) && v > 0.0; }, "positive numbers");
+    check_each(chunks, "chunks", [](int v) { return v >= 16 && v <= 256; }, "values in 16..256");
+    check_each(groups, "groups", [](int v) { return v >= 1 && v <= 1024 && (v & (v - 1)) == 0; }, "powers of two in 1..1024");
+    for (const std::string& g : trace_groups) parse_group_2d(g, "sweep: \"trace_groups\"");
+    check_each(formats, "formats", [](const std::string& v) { return v == "int8" || v == "int16" || v == "float"; },
+               "int8, int16 or float");
+    check_each(samples, "samples", [](int v) { return v == 8 || v == 10; }, "8 or 10");
+    check_each(methods, "methods", [](const std::string& v) { return v == "sphere" || v == "analytic"; }, "sphere or analytic");
+    check_each(normals, "normals", [](const std::string& v) { return v == "central" || v == "tetra" || v == "continuous"; },
+               "central, tetra or continuous");
+    if (width < 1 || width > 3840 || height < 1 || height > 2160)
+        throw InputError(fmt::format("sweep: image size {}x{} must lie within 1x1..3840x2160", width, height));
+    if (warmup < 0 || warmup > 100) throw InputError(fmt::format("sweep: warmup must lie in 0..100, got {}", warmup));
+    if (repeat < 1 || repeat > 1000) throw InputError(fmt::format("sweep: repeat must lie in 1..1000, got {}", repeat));
+}
+
+std::size_t SweepSpec::size_per_device() const {
+    const auto n = [](std::size_t s) { return std::max<std::size_t>(s, 1); };
+    return scenes.size() * n(brick_sizes.size()) * n(chunks.size()) * n(groups.size()) * n(trace_groups.size()) *
+           n(culls.size()) * n(formats.size()) * n(samples.size()) * n(methods.size()) * n(normals.size());
+}
+
+SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
+    if (!j.is_object()) throw InputError(fmt::format("{}: a sweep file is a JSON object", where));
+    static const char* const kKeys[] = {"scenes", "brick_sizes", "chunks", "groups", "trace_groups", "cull",
+                                        "formats", "samples", "methods", "normals", "devices", "width",
+                                        "height", "warmup", "repeat", "accuracy"};
+    for (const auto& [key, value] : j.items())
+        if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) == std::end(kKeys))
+            throw InputError(fmt::format("{}: unknown key \"{}\"", where, key));
+    SweepSpec s;
+    s.scenes = list<std::string>(j, "scenes", where);
+    s.brick_sizes = list<double>(j, "brick_sizes", where);
+    s.chunks = list<int>(j, "chunks", where);
+    s.groups = list<int>(j, "groups", where);
+    s.trace_groups = list<std::string>(j, "trace_groups", where);
+    s.culls = list<bool>(j, "cull", where);
+    s.formats = list<std::string>(j, "formats", where);
+    s.samples = list<int>(j, "samples", where);
+    s.methods = list<std::string>(j, "methods", where);
+    s.normals = list<std::string>(j, "normals", where);
+    try {
+        s.devices = j.value("devices", std::string());
+        s.width = j.value("width", s.width);
+        s.height = j.value("height", s.height);
+        s.warmup = j.value("warmup", s.warmup);
+        s.repeat = j.value("repeat", s.repeat);
+        s.accuracy = j.value("accuracy", s.accuracy);
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(fmt::format("{}: {}", where, e.what()));
+    }
+    return s;
+}
+
+nlohmann::json to_json(const SweepSpec& s) {
+    return {{"scenes", s.scenes}, {"brick_sizes", s.brick_sizes}, {"chunks", s.chunks}, {"groups", s.groups},
+            {"trace_groups", s.trace_groups}, {"cull", s.culls}, {"formats", s.formats}, {"samples", s.samples},
+            {"methods", s.methods}, {"normals", s.normals}, {"devices", s.devices}, {"width", s.width},
+            {"height", s.height}, {"warmup", s.warmup}, {"repeat", s.repeat}, {"accuracy", s.accuracy}};
+}
+
+std::string SweepPoint::key(const SweepSpec& spec) const {
+    const auto opt = [](const auto& v) { return v ? fmt::format("{}", *v) : std::string("auto"); };
+    return fmt::format("scene={};device={};brick={:.17g};chunk={};group={};trace_group={};cull={};format={};samples={};"
+                       "method={};normals={};image={}x{};warmup={};repeat={};accuracy={}",
+                       scene, device, brick_size, opt(chunk), opt(group), opt(trace_group), cull ? 1 : 0, format,
+                       samples, method, normals, spec.width, spec.height, spec.warmup, spec.repeat, spec.accuracy ? 1 : 0);
+}
+
+std::vector<SweepPoint> expand(const SweepSpec& spec, const std::vector<std::string>& devices, std::size_t max_points) {
+    spec.validate();
+    const std::size_t total = spec.size_per_device() * devices.size();
+    if (total == 0) throw InputError("sweep: the grid is empty (no device?)");
+    if (total > max_points)
+        throw InputError(fmt::format("sweep: the grid has {} points, more than {}: split it or use fewer values", total, max_points));
+    std::vector<SweepPoint> out;
+    out.reserve(total);
+    SweepPoint p;
+    const SweepPoint defaults;
+    for (const std::string& device : devices)
+        for (const std::string& scene : spec.scenes)
+            for (const auto& brick : or_default(spec.brick_sizes))
+                for (const auto& chunk : or_default(spec.chunks))
+                    for (const auto& group : or_default(spec.groups))
+                        for (const auto& trace_group : or_default(spec.trace_groups))
+                            for (const auto& cull : or_default(spec.culls))
+                                for (const auto& format : or_default(spec.formats))
+                                    for (const auto& samples : or_default(spec.samples))
+                                        for (const auto& method : or_default(spec.methods))
+                                            for (const auto& normals : or_default(spec.normals)) {
+                                                p.index = out.size();
+                                                p.device = device;
+                                                p.scene = scene;
+                                                p.brick_size = brick.value_or(defaults.brick_size);
+                                                p.chunk = chunk;
+                                                p.group = group;
+                                                p.trace_group = trace_group;
+                                                p.cull = cull.value_or(defaults.cull);
+                                                p.format = format.value_or(defaults.format);
+                                                p.samples = samples.value_or(defaults.samples);
+                                                p.method = method.value_or(defaults.method);
+                                                p.normals = normals.value_or(defaults.normals);
+                                                out.push_back(p);
+                                            }
+    return out;
+}
+
+Shard parse_shard(const std::string& text) {
+    const auto slash = text.find('/');
+    Shard s;
+    const auto parse = [](std::string_view v, std::size_t& out) {
+        const auto r = std::from_chars(v.data(), v.data() + v.size(), out);
+        return r.ec == std::errc() && r.ptr == v.data() + v.size() && !v.empty();
+    };
+    if (slash == std::string::npos || !parse(std::string_view(text).substr(0, slash), s.index) ||
+        !parse(std::string_view(text).substr(slash + 1), s.count) || s.count == 0 || s.index >= s.count)
+        throw InputError(fmt::format("--shard must be i/n with 0 <= i < n (e.g. 0/4), got \"{}\"", text));
+    return s;
+}
+
+std::vector<SweepPoint> shard_points(const std::vector<SweepPoint>& points, Shard shard) {
+    std::vector<SweepPoint> out;
+    for (std::size_t i = shard.index; i < points.size(); i += shard.count) out.push_back(points[i]);
+    return out;
+}
+
+}  // namespace sdfbrick::sweep

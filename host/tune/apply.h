@@ -1,0 +1,36 @@
+// Applying the tuning database to a run: the parameters a user did not give on the command line
+// (or in a sweep grid) take the database's values for the device, else its vendor's, else the
+// built-in defaults. Every report says which values were used and where they came from.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "build/brick_builder.h"
+#include "cl/device.h"
+#include "render/brick_tracer.h"
+#include "tune/tuning_db.h"
+
+namespace sdfbrick::tune {
+
+// The tuned kernels and their parameters.
+inline constexpr const char* kEvaluateKernel = "brick_evaluate";  // chunk, group
+inline constexpr const char* kTraceKernel = "trace_primary";      // group_x, group_y
+
+struct Given {  // parameters the user set explicitly: never overridden
+    bool chunk = false, group = false, trace_group = false;
+};
+
+struct Applied {
+    nlohmann::json record = nlohmann::json::object();  // per kernel: {"source", "params", "entry"}
+    std::string text;                                   // one line for text reports
+};
+
+// db may be null (tuning off). trace may be null (construction only). Values the device cannot take
+// (a work-group larger than it allows, a chunk that does not fit its local memory) are not applied;
+// the record says so.
+Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Given& given,
+                     build::BuildSettings& settings, render::TraceSettings* trace);
+
+}  // namespace sdfbrick::tune

@@ -1,0 +1,103 @@
+#include "tune/tuning_db.h"
+
+#include <cstdlib>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/files.h"
+
+namespace sdfbrick::tune {
+
+namespace {
+
+constexpr const char* kFormat = "sdfbrick tuning 1";
+
+}  // namespace
+
+std::string_view to_string(Source s) {
+    switch (s) {
+        case Source::device: return "device";
+        case Source::vendor: return "vendor";
+        case Source::fallback: return "default";
+    }
+    return "?";
+}
+
+std::optional<std::filesystem::path> TuningDb::default_path() {
+    if (const char* env = std::getenv(kTuningDbEnv); env != nullptr && *env != '\0') {
+        if (std::string_view(env) == "off") return std::nullopt;
+        return std::filesystem::path(env);
+    }
+    if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && *xdg != '\0')
+        return std::filesystem::path(xdg) / "sdfbrick" / "tuning.json";
+    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
+        return std::filesystem::path(home) / ".config" / "sdfbrick" / "tuning.json";
+    return std::nullopt;
+}
+
+TuningDb TuningDb::load(const std::filesystem::path& path) {
+    TuningDb db;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return db;
+    const auto bad = [&](const std::string& what) {
+        return InputError(fmt::format("tuning database {}: {} (fix or delete the file, or run with --no-tuning)",
+                                      path.string(), what));
+    };
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(read_file(path));
+    } catch (const nlohmann::json::exception& e) {
+        throw bad(fmt::format("not valid JSON ({})", e.what()));
+    }
+    if (!j.is_object() || j.value("format", "") != kFormat || !j.contains("entries") || !j["entries"].is_array())
+        throw bad(fmt::format("not a tuning database (expected {{\"format\": \"{}\", \"entries\": [...]}})", kFormat));
+    for (std::size_t i = 0; i < j["entries"].size(); ++i) {
+        const nlohmann::json& e = j["entries"][i];
+        try {
+            Entry entry{e.at("device").get<std::string>(), e.at("driver").get<std::string>(),
+                        e.at("vendor").get<std::string>(), e.at("kernel").get<std::string>(),
+                        e.at("params").get<std::map<std::string, int>>(), e};
+            for (const char* k : {"device", "driver", "vendor", "kernel", "params"}) entry.record.erase(k);
+            db.entries_.push_back(std::move(entry));
+        } catch (const nlohmann::json::exception& ex) {
+            throw bad(fmt::format("entry {}: {}", i, ex.what()));
+        }
+    }
+    return db;
+}
+
+Lookup TuningDb::find(const std::string& device, const std::string& driver, const std::string& vendor,
+                      const std::string& kernel) const {
+    const Entry* by_vendor = nullptr;
+    for (const Entry& e : entries_) {
+        if (e.kernel != kernel) continue;
+        if (e.device == device && e.driver == driver) return {e.params, Source::device, &e};
+        if (e.vendor == vendor) by_vendor = &e;  // the last one is the most recent
+    }
+    if (by_vendor) return {by_vendor->params, Source::vendor, by_vendor};
+    return {};
+}
+
+void TuningDb::put(Entry e) {
+    std::erase_if(entries_, [&](const Entry& x) { return x.device == e.device && x.driver == e.driver && x.kernel == e.kernel; });
+    entries_.push_back(std::move(e));
+}
+
+nlohmann::json TuningDb::to_json() const {
+    nlohmann::json entries = nlohmann::json::array();
+    for (const Entry& e : entries_) {
+        nlohmann::json j = e.record;
+        j.update({{"device", e.device}, {"driver", e.driver}, {"vendor", e.vendor}, {"kernel", e.kernel},
+                  {"params", e.params}});
+        entries.push_back(std::move(j));
+    }
+    return {{"format", kFormat}, {"entries", entries}};
+}
+
+void TuningDb::save(const std::filesystem::path& path) const {
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    write_file_atomic(path, to_json().dump(2) + "\n");
+}
+
+}  // namespace sdfbrick::tune
