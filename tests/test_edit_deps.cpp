@@ -395,7 +395,7 @@ TEST(EditDeps, MaxEditsMatchBruteForceOnSample) {
     std::printf("[deps] device ms: edit_bounds %.3f, dependencies %.3f; wall (incl. read-backs) %.3f ms\n",
                 scheduler.stage_ms("edit_bounds"), scheduler.stage_ms("dependencies"), wall_ms);
     for (const auto& l : scheduler.launches())
-        std::printf("[deps]   %-13s %-12s global %8zu  %.3f ms\n", l.stage.c_str(), l.kernel.c_str(), l.global,
+        std::printf("[deps]   %-13s %-12s global %8zu  %.3f ms\n", l.stage.c_str(), l.kernel.c_str(), static_cast<std::size_t>(l.work_items()),
                     l.device_ms);
 
     Result r;

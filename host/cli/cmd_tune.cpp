@@ -40,6 +40,12 @@ struct TuneOptions {
     std::optional<std::string> json;
 };
 
+// Tuning takes a while: every line is printed as soon as it is known.
+void say(const std::string& line) {
+    std::fputs(line.c_str(), stdout);
+    std::fflush(stdout);
+}
+
 std::string now_iso() {
     const std::time_t t = std::time(nullptr);
     char buf[32];
@@ -73,7 +79,7 @@ struct Tuned {
 };
 
 Tuned run_search(const tune::Space& space, const TuneOptions& o, const tune::Config& fallback,
-                 const std::function<double(const tune::Config&)>& cost, std::string& text) {
+                 const std::function<double(const tune::Config&)>& cost) {
     Tuned t;
     t.space = space.size();
     t.strategy = tune::strategy_from_string(o.strategy, space, o.budget);
@@ -83,7 +89,7 @@ Tuned run_search(const tune::Space& space, const TuneOptions& o, const tune::Con
         const double ms = cost(c);
         std::string params;
         for (const auto& [k, v] : c) params += fmt::format(" {} {}", k, v);
-        text += fmt::format("    {:>3}.{:<24} {}\n", ++done, params, std::isfinite(ms) ? fmt::format("{:.4f} ms", ms) : "not runnable");
+        say(fmt::format("    {:>3}.{:<24} {}\n", ++done, params, std::isfinite(ms) ? fmt::format("{:.4f} ms", ms) : "not runnable"));
         return ms;
     };
     t.result = tune::search(space, t.strategy, o.budget, o.seed, logged);
@@ -94,9 +100,9 @@ Tuned run_search(const tune::Space& space, const TuneOptions& o, const tune::Con
 }
 
 void record(tune::TuningDb& db, const ocl::DeviceInfo& d, const char* kernel, const Tuned& t, const TuneOptions& o,
-            const build::BuildSettings& s, const char* objective, nlohmann::json& report, std::string& text) {
+            const build::BuildSettings& s, const char* objective, nlohmann::json& report) {
     if (!std::isfinite(t.result.best_cost)) {
-        text += fmt::format("  {}: no configuration ran; nothing written\n", kernel);
+        say(fmt::format("  {}: no configuration ran; nothing written\n", kernel));
         return;
     }
     nlohmann::json rec = {{"time_ms", t.result.best_cost}, {"default_params", t.fallback},
@@ -108,10 +114,10 @@ void record(tune::TuningDb& db, const ocl::DeviceInfo& d, const char* kernel, co
     db.put({d.name, d.driver_version, d.vendor, kernel, t.result.best, rec});
     std::string params;
     for (const auto& [k, v] : t.result.best) params += fmt::format("{}{} {}", params.empty() ? "" : ", ", k, v);
-    text += fmt::format("  {}: best {} at {:.4f} ms; default {:.4f} ms ({:+.1f}%); {} of {} configurations ({})\n",
+    say(fmt::format("  {}: best {} at {:.4f} ms; default {:.4f} ms ({:+.1f}%); {} of {} configurations ({})\n",
                         kernel, params, t.result.best_cost, t.fallback_cost,
                         100.0 * (t.result.best_cost - t.fallback_cost) / t.fallback_cost, t.result.evaluated.size(),
-                        t.space, to_string(t.strategy));
+                        t.space, to_string(t.strategy)));
     nlohmann::json evaluated = nlohmann::json::array();
     for (const auto& [c, ms] : t.result.evaluated)
         evaluated.push_back({{"params", c}, {"ms", std::isfinite(ms) ? nlohmann::json(ms) : nlohmann::json(nullptr)}});
@@ -137,12 +143,12 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     const bool want_eval = std::find(o.kernels.begin(), o.kernels.end(), "evaluate") != o.kernels.end();
     const bool want_trace = std::find(o.kernels.begin(), o.kernels.end(), "trace") != o.kernels.end();
 
-    std::string text = fmt::format("tune {} ({}), brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n",
-                                   scene.name, o.file, base.leaf_size, o.repeat, o.warmup, o.strategy, o.budget);
+    say(fmt::format("tune {} ({}), brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n", scene.name,
+                    o.file, base.leaf_size, o.repeat, o.warmup, o.strategy, o.budget));
     nlohmann::json device_reports = nlohmann::json::array();
     for (ocl::Device& device : devices) {
         const ocl::DeviceInfo& info = device.info();
-        text += fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version);
+        say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
         nlohmann::json report = {{"device", info.to_json()}};
         build::BrickBuilder builder(device);
         build::BuildSettings settings = base;
@@ -159,7 +165,8 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
                 } catch (const InputError&) {
                     return std::numeric_limits<double>::infinity();
                 }
-                return best_of(o.warmup, o.repeat, [&] {
+                try {
+                    return best_of(o.warmup, o.repeat, [&] {
                     double ms = 0.0;
                     for (const Geometry& g : scene.geometries) {
                         const build::GeometryBuild b = builder.build(g, s);
@@ -167,11 +174,14 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
                             if (l.stage == "count" || l.stage == "evaluate") ms += l.device_ms;
                     }
                     return ms;
-                });
+                    });
+                } catch (const InputError&) {  // more work-items than the kernel allows here
+                    return std::numeric_limits<double>::infinity();
+                }
             };
-            text += "  brick_evaluate (count + evaluate stages):\n";
-            const Tuned t = run_search(space, o, {{"chunk", base.chunk}, {"group", base.eval_group}}, cost, text);
-            record(db, info, tune::kEvaluateKernel, t, o, base, "count + evaluate stages, min over repeats", report, text);
+            say("  brick_evaluate (count + evaluate stages):\n");
+            const Tuned t = run_search(space, o, {{"chunk", base.chunk}, {"group", base.eval_group}}, cost);
+            record(db, info, tune::kEvaluateKernel, t, o, base, "count + evaluate stages, min over repeats", report);
             if (std::isfinite(t.result.best_cost)) {
                 settings.chunk = t.result.best.at("chunk");
                 settings.eval_group = t.result.best.at("group");
@@ -192,23 +202,26 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
                 ts.height = o.height;
                 ts.group_x = c.at("group_x");
                 ts.group_y = c.at("group_y");
-                return best_of(o.warmup, o.repeat, [&] { return tracer.render(scene, bricks, camera, ts).trace_ms; });
+                try {
+                    return best_of(o.warmup, o.repeat, [&] { return tracer.render(scene, bricks, camera, ts).trace_ms; });
+                } catch (const InputError&) {
+                    return std::numeric_limits<double>::infinity();
+                }
             };
-            text += fmt::format("  trace_primary ({}x{}, trace stage):\n", o.width, o.height);
+            say(fmt::format("  trace_primary ({}x{}, trace stage):\n", o.width, o.height));
             const render::TraceSettings defaults;
-            const Tuned t = run_search(space, o, {{"group_x", defaults.group_x}, {"group_y", defaults.group_y}}, cost, text);
-            record(db, info, tune::kTraceKernel, t, o, settings, "trace stage, min over repeats", report, text);
+            const Tuned t = run_search(space, o, {{"group_x", defaults.group_x}, {"group_y", defaults.group_y}}, cost);
+            record(db, info, tune::kTraceKernel, t, o, settings, "trace stage, min over repeats", report);
         }
         device_reports.push_back(report);
     }
     db.save(*choice.path);
-    text += fmt::format("tuning database: {}\n", choice.path->string());
+    say(fmt::format("tuning database: {}\n", choice.path->string()));
     if (o.json) {
         write_file_atomic(*o.json, format_json({{"command", "tune"}, {"scene", o.file}, {"tuning_db", choice.path->string()},
                                                 {"devices", device_reports}}));
-        text += fmt::format("report: {}\n", *o.json);
+        say(fmt::format("report: {}\n", *o.json));
     }
-    std::fputs(text.c_str(), stdout);
 }
 
 }  // namespace

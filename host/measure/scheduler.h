@@ -51,7 +51,8 @@ public:
 
     // Enqueues kernel (arguments already set) over dims dimensions and records the launch. local:
     // the work-group size, or empty to let the driver choose. A range with a zero dimension launches
-    // nothing (see ocl::enqueue) but is still recorded.
+    // nothing (see ocl::enqueue) but is still recorded. Throws InputError when the work-group is larger
+    // than the kernel allows on the device (CL_KERNEL_WORK_GROUP_SIZE).
     void launch(std::string stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
                 std::optional<std::array<std::size_t, 3>> local, cl_uint dims);
     void launch(std::string stage, int level, cl_kernel kernel, std::size_t global,

@@ -324,9 +324,9 @@ Merged merge(const std::vector<nlohmann::json>& documents, const std::vector<std
             throw InputError(fmt::format("{}: not a sweep result (expected the JSON that sdfbrick sweep writes)", where[d]));
         if (!spec) {
             spec = doc.at("spec");
-            shard_count = doc.at("shard").value("count", 1);
-            grid_points = doc.value("grid_points", 0);
-        } else if (doc.at("spec") != *spec || doc.at("shard").value("count", 1) != shard_count) {
+            shard_count = doc.at("shard").value("count", std::size_t{1});
+            grid_points = doc.value("grid_points", std::size_t{0});
+        } else if (doc.at("spec") != *spec || doc.at("shard").value("count", std::size_t{1}) != shard_count) {
             one_spec = false;
         }
         const std::size_t shard = doc.at("shard").value("index", 0);
