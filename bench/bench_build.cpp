@@ -13,24 +13,24 @@
 #include "bench_support.h"
 #include <fmt/format.h>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "scene/scene_json.h"
 
 namespace sdfbrick {
 namespace {
 
-build::BrickBuilder& builder() {
-    static build::BrickBuilder b(bench::device());
+construct::BrickBuilder& builder() {
+    static construct::BrickBuilder b(bench::device());
     return b;
 }
 
 void bench_build(benchmark::State& state, const std::string& scene_name, double leaf, bool cull) {
     const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + scene_name + ".json");
     const Geometry g = geometry_at(s.geometries[0], s.time);
-    build::BuildSettings settings;
+    construct::BuildSettings settings;
     settings.leaf_size = leaf;
     settings.cull = cull;
-    build::GeometryBuild last;
+    construct::GeometryBuild last;
     std::map<std::string, double> stage_ms;
     for (auto _ : state) {
         last = builder().build(g, settings);

@@ -11,16 +11,17 @@
 
 #include "bench_support.h"
 
-#include "eval/field_eval.h"
+#include "reference/field_eval.h"
 #include "reference/reference_field.h"
 #include "scene/scene_json.h"
+#include "scene/to_device.h"
 
 namespace sdfbrick {
 namespace {
 
 void bench_eval(benchmark::State& state, const std::string& scene_name) {
     ocl::Device& device = bench::device();
-    static FieldEvaluator evaluator(device);
+    static reference::FieldEvaluator evaluator(device);
     const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + scene_name + ".json");
     const Geometry g = geometry_at(s.geometries[0], s.time);
     const std::vector<SdfEdit> edits = to_device(g);
@@ -29,7 +30,7 @@ void bench_eval(benchmark::State& state, const std::string& scene_name) {
         for (int i = 0; i < 3; ++i) xyz.push_back(static_cast<float>(p[i]));
     const double points = static_cast<double>(xyz.size() / 3);
     for (auto _ : state) {
-        const FieldEvalResult r = evaluator.evaluate(edits, xyz);
+        const reference::FieldEvalResult r = evaluator.evaluate(edits, xyz);
         state.SetIterationTime(r.device_ms * 1e-3);
     }
     state.counters["points/s"] = benchmark::Counter(points, benchmark::Counter::kIsIterationInvariantRate);

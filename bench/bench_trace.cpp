@@ -22,7 +22,7 @@ namespace {
 constexpr int kWidth = 3840, kHeight = 2160;
 
 struct Engine {
-    build::BrickBuilder bricks{bench::device()};
+    construct::BrickBuilder bricks{bench::device()};
     bvh::BvhBuilder bvh{bench::device()};
     render::BrickTracer tracer{bench::device()};
 };
@@ -46,7 +46,7 @@ Prepared& prepare(const std::string& name, double leaf) {
         p.bricks.reset();
         const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
         p.scene = scene_at(file, file.time);
-        build::BuildSettings s;
+        construct::BuildSettings s;
         s.leaf_size = leaf;
         p.bricks = std::make_unique<render::SceneBricks>(
             render::build_scene_bricks(engine().bricks, engine().bvh, p.scene, s));
@@ -73,7 +73,7 @@ void bench_trace(benchmark::State& state, const std::string& name, double leaf) 
     render::TraceSettings t;
     t.width = kWidth;
     t.height = kHeight;
-    const SdfCamera camera = render::make_camera(p.scene.camera, kWidth, kHeight);
+    const SdfCamera camera = make_camera(p.scene.camera, kWidth, kHeight);
     render::TraceResult last;
     for (auto _ : state) {
         last = engine().tracer.render(p.scene, *p.bricks, camera, t);

@@ -11,7 +11,7 @@
 #include "cl/launch.h"
 #include "cl/program.h"
 #include "core/errors.h"
-#include "render/camera.h"
+#include "scene/to_device.h"
 
 namespace sdfbrick::bvh {
 namespace {
@@ -102,7 +102,7 @@ void BvhBuilder::build_tree(measure::Scheduler& scheduler, const std::string& st
     scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
 }
 
-SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBuild> builds) {
+SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds) {
     const auto wall_start = std::chrono::steady_clock::now();
     if (builds.size() != scene.geometries.size())
         throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
@@ -111,7 +111,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
 
     // Bottom levels: one tree per geometry, all in one node array.
     std::size_t total_nodes = 0, max_leaves = 1;
-    for (const build::GeometryBuild& b : builds) {
+    for (const construct::GeometryBuild& b : builds) {
         total_nodes += nodes_for(b.leaf_count);
         max_leaves = std::max<std::size_t>(max_leaves, b.leaf_count);
     }
@@ -123,7 +123,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
     ocl::Buffer<SdfBounds> root_boxes(device_, builds.size() + 1);
     std::size_t offset = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {
-        const build::GeometryBuild& b = builds[g];
+        const construct::GeometryBuild& b = builds[g];
         const std::size_t n = b.leaf_count;
         out.roots.push_back(n == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(offset));
         if (n == 0) continue;
@@ -141,7 +141,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const build::GeometryBu
     out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
 
     // Top level: the instances of geometries with bricks, sorted by the Morton key of their box centre.
-    std::vector<SdfInstance> all = render::make_instances(scene);
+    std::vector<SdfInstance> all = make_instances(scene);
     std::vector<std::size_t> objects;
     std::vector<SdfBounds> world;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
@@ -46,7 +46,7 @@ public:
     // top level with one instance of a geometry without bricks (SdfBrickGeometry root SDF_NO_NODE),
     // which every ray misses. Throws InputError when a brick coordinate exceeds the 21 bits per axis
     // of the Morton keys (too many levels).
-    SceneBvh build(const Scene& scene, std::span<const build::GeometryBuild> builds);
+    SceneBvh build(const Scene& scene, std::span<const construct::GeometryBuild> builds);
 
 private:
     struct Programs;

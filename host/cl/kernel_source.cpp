@@ -17,6 +17,20 @@ namespace {
 
 std::mutex kernel_dir_mutex;
 std::optional<std::filesystem::path> kernel_dir_override;
+// Sets added by add_kernel_sources (guarded by kernel_dir_mutex); a function so that it exists before
+// any static initialiser of another file registers a set.
+std::vector<const KernelSources*>& extra_sources() {
+    static std::vector<const KernelSources*> sets;
+    return sets;
+}
+
+std::optional<std::string_view> find_extra(std::string_view file) {
+    const std::lock_guard lock(kernel_dir_mutex);
+    for (const KernelSources* set : extra_sources())
+        for (const auto& [name, text] : *set)
+            if (name == file) return text;
+    return std::nullopt;
+}
 
 struct KernelDir {
     std::filesystem::path path;
@@ -44,6 +58,7 @@ std::string read_kernel_file(std::string_view file, std::string_view included_fr
         const std::filesystem::path path = dir->path / std::filesystem::path(file);
         std::ifstream in(path, std::ios::binary);
         if (!in) {
+            if (const auto extra = find_extra(file)) return std::string(*extra);
             throw std::runtime_error(fmt::format("kernel source '{}'{} not found: cannot read {} (kernel directory "
                                                  "set by {})",
                                                  file, who, path.string(), dir->set_by));
@@ -59,6 +74,7 @@ std::string read_kernel_file(std::string_view file, std::string_view included_fr
         }
         names.push_back(name);
     }
+    if (const auto extra = find_extra(file)) return std::string(*extra);
     throw std::runtime_error(fmt::format(
         "kernel source '{}'{} not found among the kernels embedded in this build ({}); set {} or "
         "--kernel-dir to read kernels from a directory",
@@ -92,6 +108,11 @@ void expand(std::string_view file, std::string_view included_from, std::set<std:
 }
 
 }  // namespace
+
+void add_kernel_sources(const KernelSources& sources) {
+    const std::lock_guard lock(kernel_dir_mutex);
+    extra_sources().push_back(&sources);
+}
 
 void set_kernel_dir(std::optional<std::filesystem::path> dir) {
     const std::lock_guard lock(kernel_dir_mutex);

@@ -7,7 +7,7 @@
 namespace sdfbrick::cli {
 
 void BuildFlags::add_to(CLI::App* cmd) {
-    build::BuildSettings& s = settings;
+    construct::BuildSettings& s = settings;
     cmd->add_option("--brick-size", s.leaf_size, "side of a leaf brick (geometry units)")->capture_default_str();
     cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
     cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();
@@ -21,9 +21,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
 }
 
-build::BuildSettings BuildFlags::resolve() const {
-    build::BuildSettings s = settings;
-    const auto f = build::format_from_string(format);
+construct::BuildSettings BuildFlags::resolve() const {
+    construct::BuildSettings s = settings;
+    const auto f = construct::format_from_string(format);
     if (!f) throw InputError(fmt::format("--format must be int8, int16 or float, got \"{}\"", format));
     s.format = *f;
     s.cull = !no_cull;
@@ -43,9 +43,9 @@ void MeasureFlags::add_to(CLI::App* cmd, const char* what) {
                                                   "attributes and occupancy proxies");
 }
 
-nlohmann::json settings_json(const build::BuildSettings& s) {
+nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
-            {"format", build::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
+            {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
             {"chunk", s.chunk}, {"group", s.eval_group}, {"cull", s.cull}, {"dependencies", s.dependencies}};
 }
 

@@ -8,13 +8,13 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "tune/apply.h"
 
 namespace sdfbrick::cli {
 
 struct BuildFlags {
-    build::BuildSettings settings;
+    construct::BuildSettings settings;
     std::string format = "int8";
     bool no_cull = false;
 
@@ -22,7 +22,7 @@ struct BuildFlags {
     // --dependencies to cmd.
     void add_to(CLI::App* cmd);
     // The settings with --format and --no-cull applied; throws InputError for an unknown format.
-    build::BuildSettings resolve() const;
+    construct::BuildSettings resolve() const;
     // Which tuned parameters the command line set (add_to must have run).
     tune::Given given() const;
 
@@ -41,6 +41,6 @@ struct MeasureFlags {
     int warmups() const { return warmup.value_or(repeat > 1 ? 1 : 0); }
 };
 
-nlohmann::json settings_json(const build::BuildSettings& s);
+nlohmann::json settings_json(const construct::BuildSettings& s);
 
 }  // namespace sdfbrick::cli

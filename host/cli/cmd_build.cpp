@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "cli/build_flags.h"
 #include "cli/commands.h"
 #include "core/errors.h"
@@ -36,9 +36,9 @@ std::string bytes_text(std::uint64_t b) {
 }
 
 struct DeviceRun {
-    build::BuildSettings settings;  // with the tuning applied
+    construct::BuildSettings settings;  // with the tuning applied
     tune::Applied tuning;
-    std::vector<build::GeometryBuild> builds;  // last capture
+    std::vector<construct::GeometryBuild> builds;  // last capture
     std::vector<measure::Capture> captures;
     std::vector<measure::StageStats> stages;
     measure::Spread total;
@@ -48,20 +48,20 @@ struct DeviceRun {
 };
 
 DeviceRun run_device(ocl::Device& device, const Scene& scene, const BuildOptions& o, const tune::TuningDb* db) {
-    build::BrickBuilder builder(device);
+    construct::BrickBuilder builder(device);
     DeviceRun run;
     run.settings = o.flags.resolve();
     run.tuning = tune::apply_tuning(db, device.info(), o.flags.given(), run.settings, nullptr);
     run.settings.validate(device.info());
     for (int r = 0; r < o.measure.warmups() + o.measure.repeat; ++r) {
-        std::vector<build::GeometryBuild> builds;
+        std::vector<construct::GeometryBuild> builds;
         measure::Capture capture;
         Fnv1a64 digest, lists;
         for (const Geometry& g : scene.geometries) {
             builds.push_back(builder.build(g, run.settings));
             capture.insert(capture.end(), builds.back().launches.begin(), builds.back().launches.end());
-            digest.add_part(build::output_digest(builds.back(), run.settings));
-            lists.add_part(build::list_digest(builds.back()));
+            digest.add_part(construct::output_digest(builds.back(), run.settings));
+            lists.add_part(construct::list_digest(builds.back()));
         }
         if (r < o.measure.warmups()) continue;
         run.captures.push_back(std::move(capture));
@@ -160,7 +160,7 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
 
 void run_build(BuildOptions o, const GlobalOptions& global) {
     apply_global_options(global);
-    const build::BuildSettings settings = o.flags.resolve();
+    const construct::BuildSettings settings = o.flags.resolve();
     const Scene file_scene = load_scene(o.file);
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
@@ -170,7 +170,7 @@ void run_build(BuildOptions o, const GlobalOptions& global) {
     std::string text = fmt::format("build {} ({}), t = {} s: brick size {}, branching {}, {}^3 samples, {}, "
                                    "culling {}{}, guard {}\n",
                                    scene.name, o.file, t, settings.leaf_size, settings.branching, settings.samples,
-                                   build::to_string(settings.format), settings.cull ? "on" : "off",
+                                   construct::to_string(settings.format), settings.cull ? "on" : "off",
                                    settings.dependencies ? " with dependencies" : "", settings.guard);
     nlohmann::json device_reports = nlohmann::json::array();
     std::string first_digest, first_lists;

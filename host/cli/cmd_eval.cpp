@@ -12,7 +12,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
-#include "eval/field_eval.h"
+#include "reference/field_eval.h"
 #include "scene/scene_json.h"
 
 namespace sdfbrick::cli {
@@ -39,7 +39,7 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     const Scene file_scene = load_scene(o.file);
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
-    SliceSpec spec;
+    reference::SliceSpec spec;
     spec.axis = o.axis == "x" ? 0 : o.axis == "y" ? 1 : 2;
     spec.offset = o.offset;
     spec.resolution = o.size;
@@ -50,17 +50,17 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
 
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     nlohmann::json report_devices = nlohmann::json::array();
-    std::optional<Slice> first;
+    std::optional<reference::Slice> first;
     std::string first_digest;
     bool all_agree = true;
-    std::optional<ReferenceSamples> reference;
+    std::optional<reference::ReferenceSamples> reference;
     std::string summary = fmt::format("scene {} ({}), t = {} s, {} objects, {} edits\n", scene.name, o.file, t,
                                       scene.objects.size(), edits);
     for (ocl::Device& device : devices) {
-        FieldEvaluator evaluator(device);
-        Slice slice = evaluate_slice(evaluator, scene, spec);
-        if (!reference) reference = reference_samples(slice, scene, o.check);
-        const ReferenceCheck check = check_against_reference(slice, *reference);
+        reference::FieldEvaluator evaluator(device);
+        reference::Slice slice = reference::evaluate_slice(evaluator, scene, spec);
+        if (!reference) reference = reference::reference_samples(slice, scene, o.check);
+        const reference::ReferenceCheck check = reference::check_against_reference(slice, *reference);
         const std::string digest = Fnv1a64().add_values(std::span<const float>(slice.values)).hex();
         const double points = static_cast<double>(slice.values.size());
         const double seconds = slice.device_ms * 1e-3;
@@ -106,7 +106,7 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     const auto inside = std::count_if(first->values.begin(), first->values.end(), [](float v) { return v < 0.0f; });
     if (devices.size() > 1)
         summary += fmt::format("devices agree bit for bit: {}\n", all_agree ? "yes" : "NO (digests differ)");
-    write_image(slice_image(*first), image_path);
+    write_image(reference::slice_image(*first), image_path);
     summary += fmt::format("field on the slice: min {:.4f}, max {:.4f}, inside {:.1f}%; picture: {}\n", *lo, *hi,
                            100.0 * static_cast<double>(inside) / static_cast<double>(first->values.size()), image_path);
 

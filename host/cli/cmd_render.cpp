@@ -16,11 +16,11 @@
 #include "core/files.h"
 #include "core/hash.h"
 #include "core/stats.h"
-#include "render/accuracy.h"
+#include "reference/accuracy.h"
 #include "render/brick_tracer.h"
 #include "render/pictures.h"
-#include "render/pipeline.h"
-#include "render/reference_render.h"
+#include "pipeline/pipeline.h"
+#include "reference/device_tracer.h"
 #include "scene/scene_json.h"
 
 namespace sdfbrick::cli {
@@ -51,7 +51,7 @@ bool float_format(const std::filesystem::path& p) {
 }
 
 // Depth for viewing: near surfaces bright, far ones dark, misses black.
-Image depth_view(const render::RenderBuffer& b) {
+Image depth_view(const RenderBuffer& b) {
     double lo = INFINITY, hi = -INFINITY;
     for (std::size_t i = 0; i < b.pixels(); ++i)
         if (b.is_hit(i)) {
@@ -67,44 +67,44 @@ Image depth_view(const render::RenderBuffer& b) {
     return out;
 }
 
-Image picture(const std::string& mode, const render::RenderBuffer& b, const Image& shaded,
+Image picture(const std::string& mode, const RenderBuffer& b, const Image& shaded,
               const std::filesystem::path& path) {
-    if (mode == "depth") return float_format(path) ? render::depth_image(b) : depth_view(b);
+    if (mode == "depth") return float_format(path) ? depth_image(b) : depth_view(b);
     if (mode == "shaded") return shaded;
     if (mode == "steps") return render::steps_image(b);
     if (mode == "bricks") return render::brick_image(b);
-    return render::normal_image(b);
+    return normal_image(b);
 }
 
 // What one device did.
 struct DeviceRender {
-    render::RenderBuffer buffer;
+    RenderBuffer buffer;
     Image shaded;
-    std::optional<render::ReferenceResult> reference;
-    std::optional<render::AccuracyMetrics> accuracy;
+    std::optional<reference::ReferenceResult> reference;
+    std::optional<reference::AccuracyMetrics> accuracy;
     nlohmann::json json;
     std::string digest;
 };
 
 DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
-                       const build::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_trees,
+                       const construct::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_trees,
                        std::string& text) {
     DeviceRender r;
-    const SdfCamera camera = render::make_camera(scene.camera, o.trace.width, o.trace.height);
+    const SdfCamera camera = make_camera(scene.camera, o.trace.width, o.trace.height);
     const double pixels = static_cast<double>(o.trace.width) * o.trace.height;
     text += fmt::format("device {} [{}]\n", device.info().index, device.info().name);
     r.json = {{"device", device.info().to_json()}};
     nlohmann::json stages = nlohmann::json::array();
     if (!o.reference) {
-        build::BuildSettings settings = base_settings;
+        construct::BuildSettings settings = base_settings;
         render::TraceSettings trace = o.trace;
         tune::Given given = o.flags.given();
         given.trace_group = o.trace_group_given;
         const tune::Applied tuning = tune::apply_tuning(tuning_db, device.info(), given, settings, &trace);
         text += "  " + tuning.text + "\n";
         r.json["tuning"] = tuning.record;
-        render::Pipeline pipeline(device);
-        render::PipelineRun run = pipeline.run(scene, settings, trace, o.measure.warmups(), o.measure.repeat);
+        pipeline::Pipeline pipeline(device);
+        pipeline::PipelineRun run = pipeline.run(scene, settings, trace, o.measure.warmups(), o.measure.repeat);
         const render::SceneBricks& bricks = run.bricks;
         r.digest = run.trace_digest;
         r.buffer = std::move(run.trace->buffer);
@@ -153,11 +153,11 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
             if (!problems.empty()) text += "  BVH INVALID: " + problems + "\n";
         }
         if (o.compare) {
-            render::ReferenceTracer ref(device);
+            reference::ReferenceTracer ref(device);
             r.reference = ref.render(scene, camera);
-            r.accuracy = render::compare(r.buffer, r.reference->image, bricks.voxel_world);
-            const render::AccuracyMetrics& a = *r.accuracy;
-            r.json["accuracy"] = render::to_json(a);
+            r.accuracy = reference::compare(r.buffer, r.reference->image, bricks.voxel_world);
+            const reference::AccuracyMetrics& a = *r.accuracy;
+            r.json["accuracy"] = reference::to_json(a);
             text += fmt::format("  accuracy vs reference: hit mismatch {:.4f}%, depth error mean {:.4f} p99 {:.4f} max "
                                 "{:.3f} voxels, normal error mean {:.3f} p99 {:.3f} deg, PSNR {:.2f} dB{}\n",
                                 100.0 * a.mismatch_fraction, a.depth_error_mean, a.depth_error_p99, a.depth_error_max,
@@ -167,14 +167,14 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
                                                         : "");
         }
     } else {
-        render::ReferenceTracer ref(device);
+        reference::ReferenceTracer ref(device);
         r.reference = ref.render(scene, camera);
         r.buffer = r.reference->image;
-        r.digest = render::buffer_digest(r.buffer);
+        r.digest = pipeline::buffer_digest(r.buffer);
         r.json["digest"] = r.digest;
     }
     if (r.reference) {
-        const render::ReferenceResult& ref = *r.reference;
+        const reference::ReferenceResult& ref = *r.reference;
         stages.push_back({{"name", "reference"}, {"device_ms", ref.device_ms}});
         r.json["stages"] = stages;
         r.json["reference"] = {{"device_ms", ref.device_ms}, {"march_steps", ref.march_steps},
@@ -187,7 +187,7 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
 }
 
 // "" when the buffers are bit-identical; else how many pixels differ and the first of them.
-std::string difference_text(const render::RenderBuffer& a, const render::RenderBuffer& b) {
+std::string difference_text(const RenderBuffer& a, const RenderBuffer& b) {
     std::size_t hits = 0, aux = 0, first = a.pixels();
     for (std::size_t i = 0; i < a.pixels(); ++i) {
         const bool h = std::memcmp(&a.hit[i], &b.hit[i], sizeof(cl_float4)) != 0;
@@ -197,7 +197,7 @@ std::string difference_text(const render::RenderBuffer& a, const render::RenderB
         if ((h || x) && first == a.pixels()) first = i;
     }
     if (first == a.pixels()) return "";
-    const auto px = [](const render::RenderBuffer& r, std::size_t i) {
+    const auto px = [](const RenderBuffer& r, std::size_t i) {
         return fmt::format("({:.9g} {:.9g} {:.9g} depth {:.9g}, brick {}, counters {:#x})", r.hit[i].s[0], r.hit[i].s[1],
                            r.hit[i].s[2], r.hit[i].s[3], r.aux[i].s[0], r.aux[i].s[1]);
     };
@@ -211,7 +211,7 @@ std::filesystem::path with_suffix(const std::filesystem::path& p, const std::str
 
 void run_render(RenderOptions o, const GlobalOptions& global) {
     apply_global_options(global);
-    const build::BuildSettings settings = o.flags.resolve();
+    const construct::BuildSettings settings = o.flags.resolve();
     if (std::find(std::begin(kModes), std::end(kModes), o.mode) == std::end(kModes))
         throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", o.mode));
     const auto method = render::method_from_string(o.method);
@@ -224,7 +224,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     o.trace.method = *method;
     o.trace.normals = *normals;
     o.trace.shade = o.mode == "shaded";
-    render::validate_image_size(o.trace.width, o.trace.height);
+    validate_image_size(o.trace.width, o.trace.height);
 
     const Scene file_scene = load_scene(o.file);
     const double t = o.time.value_or(file_scene.time);
@@ -238,7 +238,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
                                    o.trace.height, o.mode);
     text += o.reference ? "reference tracer (analytic edits)\n"
                         : fmt::format("method {}, normals {}; bricks {} {}, {}^3 samples, culling {}\n", o.method,
-                                      o.normals, settings.leaf_size, build::to_string(settings.format),
+                                      o.normals, settings.leaf_size, construct::to_string(settings.format),
                                       settings.samples, settings.cull ? "on" : "off");
     std::vector<DeviceRender> runs;
     nlohmann::json device_reports = nlohmann::json::array();
@@ -262,7 +262,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
         const auto ref_path = with_suffix(out, "-reference");
         const auto diff_path = with_suffix(out, "-difference");
         write_image(picture(o.mode == "depth" ? "depth" : "normals", first.reference->image, {}, ref_path), ref_path);
-        write_image(render::difference_image(first.buffer, first.reference->image, first.json["voxel_world"]), diff_path);
+        write_image(reference::difference_image(first.buffer, first.reference->image, first.json["voxel_world"]), diff_path);
         images["reference"] = ref_path.string();
         images["difference"] = diff_path.string();
         text += fmt::format("reference image: {}, difference image: {}\n", ref_path.string(), diff_path.string());

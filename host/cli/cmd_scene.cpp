@@ -42,7 +42,7 @@ void run_info(const InfoOptions& o) {
             const Geometry& g = at_t.geometries[i];
             const Aabb b = bounds(g);
             if (b.empty()) continue;
-            const auto domain = reference::make_domain(b, *o.leaf_size, o.branching);
+            const auto domain = construct::make_domain(b, *o.leaf_size, o.branching);
             const auto start = std::chrono::steady_clock::now();
             const auto per_level = reference::count_surface_cells(g, domain);
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

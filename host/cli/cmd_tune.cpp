@@ -11,14 +11,14 @@
 
 #include <fmt/format.h>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "bvh/bvh_builder.h"
 #include "cli/build_flags.h"
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
 #include "render/brick_tracer.h"
-#include "render/camera.h"
+#include "scene/to_device.h"
 #include "scene/scene_json.h"
 #include "tune/apply.h"
 #include "tune/search.h"
@@ -100,7 +100,7 @@ Tuned run_search(const tune::Space& space, const TuneOptions& o, const tune::Con
 }
 
 void record(tune::TuningDb& db, const ocl::DeviceInfo& d, const char* kernel, const Tuned& t, const TuneOptions& o,
-            const build::BuildSettings& s, const char* objective, nlohmann::json& report) {
+            const construct::BuildSettings& s, const char* objective, nlohmann::json& report) {
     if (!std::isfinite(t.result.best_cost)) {
         say(fmt::format("  {}: no configuration ran; nothing written\n", kernel));
         return;
@@ -131,8 +131,8 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     for (const std::string& k : o.kernels)
         if (k != "evaluate" && k != "trace") throw InputError(fmt::format("--kernels takes evaluate and/or trace, got \"{}\"", k));
     if (o.budget < 1) throw InputError("--budget must be at least 1");
-    render::validate_image_size(o.width, o.height);
-    const build::BuildSettings base = o.flags.resolve();
+    validate_image_size(o.width, o.height);
+    const construct::BuildSettings base = o.flags.resolve();
     const Scene file_scene = load_scene(o.file);
     const Scene scene = scene_at(file_scene, file_scene.time);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
@@ -150,14 +150,14 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
         const ocl::DeviceInfo& info = device.info();
         say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
         nlohmann::json report = {{"device", info.to_json()}};
-        build::BrickBuilder builder(device);
-        build::BuildSettings settings = base;
+        construct::BrickBuilder builder(device);
+        construct::BuildSettings settings = base;
         if (want_eval) {
             tune::Space space;
             space.dims = {{"chunk", powers_of_two(16, 256)},
                           {"group", powers_of_two(32, static_cast<int>(std::min<std::size_t>(info.max_work_group_size, 1024)))}};
             const auto cost = [&](const tune::Config& c) {
-                build::BuildSettings s = base;
+                construct::BuildSettings s = base;
                 s.chunk = c.at("chunk");
                 s.eval_group = c.at("group");
                 try {
@@ -169,7 +169,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
                     return best_of(o.warmup, o.repeat, [&] {
                     double ms = 0.0;
                     for (const Geometry& g : scene.geometries) {
-                        const build::GeometryBuild b = builder.build(g, s);
+                        const construct::GeometryBuild b = builder.build(g, s);
                         for (const auto& l : b.launches)
                             if (l.stage == "count" || l.stage == "evaluate") ms += l.device_ms;
                     }
@@ -191,7 +191,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
             bvh::BvhBuilder bvh_builder(device);
             render::BrickTracer tracer(device);
             const render::SceneBricks bricks = render::build_scene_bricks(builder, bvh_builder, scene, settings);
-            const SdfCamera camera = render::make_camera(scene.camera, o.width, o.height);
+            const SdfCamera camera = make_camera(scene.camera, o.width, o.height);
             tune::Space space;
             space.dims = {{"group_x", powers_of_two(4, 64)}, {"group_y", powers_of_two(1, 32)}};
             const auto cost = [&](const tune::Config& c) {

@@ -10,15 +10,11 @@
 #include "reference/reference_field.h"
 
 namespace sdfbrick::reference {
+
+using construct::Domain;
+using construct::morton_child;
+
 namespace {
-
-int log2_exact(int b) {
-    int bits = 0;
-    while ((1 << bits) < b) ++bits;
-    return bits;
-}
-
-bool valid_branching(int b) { return b >= 2 && b <= 16 && (b & (b - 1)) == 0; }
 
 bool keep(const Geometry& g, const Domain& d, int level, const glm::ivec3& coord) {
     const double f = evaluate(g, d.cell_centre(level, coord));
@@ -111,63 +107,6 @@ void walk(const Geometry& g, const Domain& d, unsigned threads, bool keep_all, b
 
 }  // namespace
 
-std::int64_t Domain::cells_per_axis(int level) const {
-    std::int64_t n = 1;
-    for (int i = 0; i < level; ++i) n *= branching;
-    return n;
-}
-
-double Domain::side() const { return leaf_size * static_cast<double>(cells_per_axis(levels - 1)); }
-
-double Domain::cell_size(int level) const {
-    return leaf_size * static_cast<double>(cells_per_axis(levels - 1 - level));
-}
-
-glm::dvec3 Domain::cell_lo(int level, const glm::ivec3& c) const {
-    return origin + glm::dvec3(c) * cell_size(level);
-}
-
-glm::dvec3 Domain::cell_centre(int level, const glm::ivec3& c) const {
-    return origin + (glm::dvec3(c) + 0.5) * cell_size(level);
-}
-
-double Domain::half_diagonal(int level) const { return 0.5 * std::sqrt(3.0) * cell_size(level); }
-
-glm::ivec3 morton_child(int branching, int index) {
-    const int bits = log2_exact(branching);
-    glm::ivec3 c(0);
-    for (int j = 0; j < bits; ++j) {
-        c.x |= ((index >> (3 * j)) & 1) << j;
-        c.y |= ((index >> (3 * j + 1)) & 1) << j;
-        c.z |= ((index >> (3 * j + 2)) & 1) << j;
-    }
-    return c;
-}
-
-Domain make_domain(const Aabb& bounds, double leaf_size, int branching) {
-    if (bounds.empty()) throw InputError("make_domain: the bounds are empty");
-    for (int a = 0; a < 3; ++a)
-        if (!std::isfinite(bounds.lo[a]) || !std::isfinite(bounds.hi[a]))
-            throw InputError("make_domain: the bounds are not finite");
-    if (!(leaf_size > 0.0) || !std::isfinite(leaf_size))
-        throw InputError("make_domain: leaf size must be > 0, got " + std::to_string(leaf_size));
-    if (!valid_branching(branching))
-        throw InputError("make_domain: branching must be a power of two in 2..16, got " + std::to_string(branching));
-    Domain d;
-    d.leaf_size = leaf_size;
-    d.branching = branching;
-    d.origin = glm::floor(bounds.lo / leaf_size) * leaf_size;
-    const glm::dvec3 need = bounds.hi - d.origin;
-    const double reach = std::max(need.x, std::max(need.y, need.z));
-    d.levels = 1;
-    while (d.side() < reach) {
-        if (d.cells_per_axis(d.levels) > (std::int64_t{1} << 30))
-            throw InputError("make_domain: more than 2^30 leaf cells per axis (leaf size " +
-                             std::to_string(leaf_size) + " too small for the bounds)");
-        ++d.levels;
-    }
-    return d;
-}
 
 std::vector<std::uint64_t> count_surface_cells(const Geometry& g, const Domain& d, unsigned threads) {
     std::vector<std::uint64_t> counts;

@@ -28,8 +28,8 @@ std::optional<NormalMethod> normals_from_string(std::string_view s) {
     return std::nullopt;
 }
 
-SceneBricks build_scene_bricks(build::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
-                               const build::BuildSettings& settings) {
+SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
+                               const construct::BuildSettings& settings) {
     ocl::Device& device = bricks.device();
     SceneBricks out;
     out.settings = settings;
@@ -41,17 +41,17 @@ SceneBricks build_scene_bricks(build::BrickBuilder& bricks, bvh::BvhBuilder& bvh
     out.bvh = bvh.build(scene, out.builds);
 
     const std::size_t sample_count = static_cast<std::size_t>(settings.samples) * settings.samples * settings.samples;
-    const std::size_t brick_bytes = sample_count * build::sample_bytes(settings.format);
+    const std::size_t brick_bytes = sample_count * construct::sample_bytes(settings.format);
     if (out.builds.size() != 1) {
         out.combined_pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device, out.bricks * brick_bytes);
     }
     std::vector<SdfBrickGeometry> table;
     std::uint64_t first = 0;
-    const double quant = settings.format == build::BrickFormat::int8    ? 127.0
-                         : settings.format == build::BrickFormat::int16 ? 32767.0
+    const double quant = settings.format == construct::BrickFormat::int8    ? 127.0
+                         : settings.format == construct::BrickFormat::int16 ? 32767.0
                                                                         : 1.0;
     for (std::size_t g = 0; g < out.builds.size(); ++g) {
-        const build::GeometryBuild& b = out.builds[g];
+        const construct::GeometryBuild& b = out.builds[g];
         SdfBrickGeometry e{};
         e.voxel = static_cast<float>(settings.voxel());
         e.inv_voxel = static_cast<float>(1.0 / settings.voxel());
@@ -106,8 +106,8 @@ struct BrickTracer::Kernels {
 BrickTracer::BrickTracer(ocl::Device& device) : device_(device) {}
 BrickTracer::~BrickTracer() = default;
 
-BrickTracer::Kernels& BrickTracer::kernels(const build::BuildSettings& b, const TraceSettings& t) {
-    const int format = b.format == build::BrickFormat::int8 ? 0 : b.format == build::BrickFormat::int16 ? 1 : 2;
+BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, const TraceSettings& t) {
+    const int format = b.format == construct::BrickFormat::int8 ? 0 : b.format == construct::BrickFormat::int16 ? 1 : 2;
     const std::string options =
         fmt::format("-DSAMPLES={} -DAPRON={} -DFORMAT={} -DMETHOD={} -DNORMALS={}", b.samples, b.apron(), format,
                     t.method == Method::sphere ? 0 : 1, static_cast<int>(t.normals));

@@ -10,15 +10,16 @@
 #include <string_view>
 #include <vector>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "measure/scheduler.h"
 #include "bvh/bvh_builder.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
 #include "image/image.h"
-#include "render/camera.h"
+#include "scene/to_device.h"
 #include "scene/scene.h"
 #include "sdf_types.h"
+#include "image/render_buffer.h"
 
 namespace sdfbrick::render {
 
@@ -32,8 +33,8 @@ std::optional<NormalMethod> normals_from_string(std::string_view s);
 // Every geometry's bricks (construction), their trees and the top level (bvh), and the arrays the
 // tracer reads: one pool for all geometries and a table of SdfBrickGeometry.
 struct SceneBricks {
-    build::BuildSettings settings;
-    std::vector<build::GeometryBuild> builds;
+    construct::BuildSettings settings;
+    std::vector<construct::GeometryBuild> builds;
     bvh::SceneBvh bvh;
     std::unique_ptr<ocl::Buffer<std::uint8_t>> combined_pool;  // several geometries: their pools, in order
     std::unique_ptr<ocl::Buffer<SdfBrickGeometry>> geometries;  // one per geometry, then the empty one
@@ -45,8 +46,8 @@ struct SceneBricks {
 };
 
 // Builds the bricks of every geometry of scene (already at its time), then the BVH.
-SceneBricks build_scene_bricks(build::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
-                               const build::BuildSettings& settings);
+SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
+                               const construct::BuildSettings& settings);
 
 struct TraceSettings {
     int width = 1280;
@@ -81,7 +82,7 @@ public:
 
 private:
     struct Kernels;
-    Kernels& kernels(const build::BuildSettings& b, const TraceSettings& t);
+    Kernels& kernels(const construct::BuildSettings& b, const TraceSettings& t);
     ocl::Device& device_;
     std::map<std::string, std::unique_ptr<Kernels>> cache_;
 };

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "image/image.h"
-#include "render/camera.h"
+#include "image/render_buffer.h"
 
 namespace sdfbrick::render {
 

@@ -137,28 +137,4 @@ Aabb bounds(const Geometry& g) {
 
 Aabb bounds(const Scene& s, const Object& o) { return o.transform.apply(bounds(s.geometries.at(o.geometry))); }
 
-SdfEdit to_device(const Edit& e) {
-    SdfEdit d{};
-    for (int i = 0; i < 3; ++i) d.transform.translation[i] = static_cast<float>(e.transform.translation[i]);
-    d.transform.scale = static_cast<float>(e.transform.scale);
-    const glm::dquat q = e.transform.rotation;
-    d.transform.rotation[0] = static_cast<float>(q.x);
-    d.transform.rotation[1] = static_cast<float>(q.y);
-    d.transform.rotation[2] = static_cast<float>(q.z);
-    d.transform.rotation[3] = static_cast<float>(q.w);
-    for (int i = 0; i < 4; ++i) d.params[i] = static_cast<float>(e.params[i]);
-    d.blend = static_cast<float>(e.blend);
-    d.inv_lipschitz = static_cast<float>(1.0 / lipschitz(e));
-    d.primitive = static_cast<sdf_u32>(e.primitive);
-    d.op = static_cast<sdf_u32>(e.op);
-    return d;
-}
-
-std::vector<SdfEdit> to_device(const Geometry& g) {
-    std::vector<SdfEdit> out;
-    out.reserve(g.edits.size());
-    for (const Edit& e : g.edits) out.push_back(to_device(e));
-    return out;
-}
-
 }  // namespace sdfbrick

@@ -152,8 +152,4 @@ Aabb bounds(const Geometry& g);
 // World bounds of an object.
 Aabb bounds(const Scene& s, const Object& o);
 
-// The float record the kernels read (kernels/sdf_types.h).
-SdfEdit to_device(const Edit& e);
-std::vector<SdfEdit> to_device(const Geometry& g);
-
 }  // namespace sdfbrick

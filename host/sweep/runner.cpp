@@ -13,9 +13,9 @@
 #include "core/files.h"
 #include "measure/peaks.h"
 #include "measure/statistics.h"
-#include "render/accuracy.h"
-#include "render/pipeline.h"
-#include "render/reference_render.h"
+#include "reference/accuracy.h"
+#include "pipeline/pipeline.h"
+#include "reference/device_tracer.h"
 #include "scene/scene_json.h"
 #include "tune/apply.h"
 
@@ -42,18 +42,18 @@ nlohmann::json opt(const std::optional<T>& v) {
 // What one device needs across points: its pipeline (compiled programs), peaks and references.
 struct DeviceState {
     ocl::Device* device = nullptr;
-    std::unique_ptr<render::Pipeline> pipeline;
+    std::unique_ptr<pipeline::Pipeline> pipeline;
     std::optional<measure::DevicePeaks> peaks;
-    std::map<std::string, render::ReferenceResult> references;  // per scene file
+    std::map<std::string, reference::ReferenceResult> references;  // per scene file
 };
 
 Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, const Scene& scene,
               const tune::TuningDb* tuning) {
     ocl::Device& device = *state.device;
-    build::BuildSettings settings;
+    construct::BuildSettings settings;
     settings.leaf_size = p.brick_size;
     settings.cull = p.cull;
-    settings.format = *build::format_from_string(p.format);
+    settings.format = *construct::format_from_string(p.format);
     settings.samples = p.samples;
     if (p.chunk) settings.chunk = *p.chunk;
     if (p.group) settings.eval_group = *p.group;
@@ -67,8 +67,8 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
                        settings, &trace);
     settings.validate(device.info());
 
-    if (!state.pipeline) state.pipeline = std::make_unique<render::Pipeline>(device);
-    const render::PipelineRun run = state.pipeline->run(scene, settings, trace, spec.warmup, spec.repeat);
+    if (!state.pipeline) state.pipeline = std::make_unique<pipeline::Pipeline>(device);
+    const pipeline::PipelineRun run = state.pipeline->run(scene, settings, trace, spec.warmup, spec.repeat);
     const render::SceneBricks& bricks = run.bricks;
 
     Row r;
@@ -79,7 +79,7 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
     r["identical"] = run.identical;
     std::uint64_t evaluations = 0, pool_bytes = 0, memory = 0;
     int levels = 0;
-    for (const build::GeometryBuild& b : bricks.builds) {
+    for (const construct::GeometryBuild& b : bricks.builds) {
         evaluations += b.edit_evaluations;
         pool_bytes += b.pool ? b.pool->bytes() : 0;
         levels = std::max(levels, b.levels);
@@ -126,10 +126,10 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
     if (spec.accuracy) {
         auto it = state.references.find(p.scene);
         if (it == state.references.end()) {
-            render::ReferenceTracer ref(device);
-            it = state.references.emplace(p.scene, ref.render(scene, render::make_camera(scene.camera, spec.width, spec.height))).first;
+            reference::ReferenceTracer ref(device);
+            it = state.references.emplace(p.scene, ref.render(scene, make_camera(scene.camera, spec.width, spec.height))).first;
         }
-        const render::AccuracyMetrics a = render::compare(run.trace->buffer, it->second.image, bricks.voxel_world);
+        const reference::AccuracyMetrics a = reference::compare(run.trace->buffer, it->second.image, bricks.voxel_world);
         r["mismatch"] = a.mismatch_fraction;
         r["depth_mean"] = a.depth_error_mean;
         r["depth_p99"] = a.depth_error_p99;

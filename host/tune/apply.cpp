@@ -23,13 +23,13 @@ nlohmann::json describe(const Lookup& l, const nlohmann::json& params, bool give
 }  // namespace
 
 Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Given& given,
-                     build::BuildSettings& settings, render::TraceSettings* trace) {
+                     construct::BuildSettings& settings, render::TraceSettings* trace) {
     Applied out;
     const auto find = [&](const char* kernel) {
         return db ? db->find(device.name, device.driver_version, device.vendor, kernel) : Lookup{};
     };
     const Lookup eval = find(kEvaluateKernel);
-    build::BuildSettings tuned = settings;
+    construct::BuildSettings tuned = settings;
     if (!given.chunk) tuned.chunk = param(eval, "chunk", tuned.chunk);
     if (!given.group) tuned.eval_group = param(eval, "group", tuned.eval_group);
     std::string note;

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "build/brick_builder.h"
+#include "construct/brick_builder.h"
 #include "cl/device.h"
 #include "render/brick_tracer.h"
 #include "tune/tuning_db.h"
@@ -31,6 +31,6 @@ struct Applied {
 // (a work-group larger than it allows, a chunk that does not fit its local memory) are not applied;
 // the record says so.
 Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Given& given,
-                     build::BuildSettings& settings, render::TraceSettings* trace);
+                     construct::BuildSettings& settings, render::TraceSettings* trace);
 
 }  // namespace sdfbrick::tune

@@ -1,0 +1,112 @@
+// Sparse brick construction on the device (DESIGN.md section 2, issue 3): per geometry, top-down
+// levels of count -> scan -> subdivide -> cull, then evaluate the leaf bricks into the brick pool and
+// their AABBs. Every launch goes through a measure::Scheduler; docs/construction.md explains the stages, the
+// band-limited field that makes culling exact, and every margin used below.
+#pragma once
+
+#include <CL/cl.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "construct/scan.h"
+#include "measure/scheduler.h"
+#include "cl/buffer.h"
+#include "cl/device.h"
+#include "cl/program.h"
+#include "scene/scene.h"
+#include "sdf_types.h"
+
+namespace sdfbrick::construct {
+
+enum class BrickFormat { int8, int16, float32 };
+std::string_view to_string(BrickFormat f);  // "int8", "int16", "float"
+std::optional<BrickFormat> format_from_string(std::string_view s);
+std::size_t sample_bytes(BrickFormat f);
+
+struct BuildSettings {
+    double leaf_size = 0.0625;    // side of a leaf brick (geometry units)
+    int levels = 0;               // 0: the fewest that cover the geometry; else exactly this many
+    int branching = 4;            // children per axis: 4 or 2
+    int samples = 8;              // samples per axis: 8 (one-voxel apron) or 10 (two-voxel apron)
+    BrickFormat format = BrickFormat::int8;
+    double band_voxels = 4.0;     // stored distances are clamped to +-band_voxels voxels
+    double guard = 2.0;           // C = band + guard * (largest blend radius); see sdf_build.h
+    int chunk = 64;               // edits staged per __local chunk (16..256)
+    int eval_group = 128;         // work-group size of the leaf evaluation
+    bool cull = true;
+    bool dependencies = false;    // add the dependencies of kept smooth edits to every list
+
+    int apron() const { return samples == 10 ? 2 : 1; }
+    int interior() const { return samples - 2 * apron(); }  // 6 in both layouts
+    double voxel() const { return leaf_size / interior(); }
+    // Throws InputError naming the option ("--chunk") for a value out of range.
+    void validate(const ocl::DeviceInfo& device) const;
+};
+
+struct LevelReport {
+    int level = 0;
+    double cell_size = 0.0;
+    std::uint64_t bricks = 0;
+    std::uint64_t edit_entries = 0;  // sum of the bricks' list lengths
+    std::uint32_t max_edits = 0;
+    double count_ms = 0.0, scan_ms = 0.0, subdivide_ms = 0.0, cull_ms = 0.0;
+};
+
+// One geometry's construction: the leaves and pool stay on the device.
+struct GeometryBuild {
+    std::string name;
+    // Domain: a cube of side leaf * B^(levels-1) from origin (floats as the kernels use them).
+    glm::vec3 origin{0.0f};
+    float leaf_size = 0.0f;
+    int levels = 0;
+    float clamp_c = 0.0f;      // saturation C of the band-limited field
+    float band = 0.0f;         // stored range: +-band
+    std::vector<LevelReport> level_reports;
+    std::uint64_t leaf_count = 0;
+    double edits_per_leaf_mean = 0.0;
+    std::uint32_t edits_per_leaf_max = 0;
+    std::uint64_t edit_evaluations = 0;  // count + cull + evaluate
+    std::uint64_t dependency_entries = 0;
+    std::map<std::string, std::uint64_t> memory;  // bytes per resource
+    std::vector<measure::Launch> launches;
+    double device_ms = 0.0;  // all launches
+    double host_ms = 0.0;    // wall time of build(), including read-backs
+
+    std::unique_ptr<ocl::Buffer<SdfBrick>> leaves;
+    std::unique_ptr<ocl::Buffer<cl_uint>> leaf_edit_indices;
+    std::unique_ptr<ocl::Buffer<std::uint8_t>> pool;  // leaf_count * samples^3 values of the format
+    std::unique_ptr<ocl::Buffer<SdfBounds>> aabbs;
+};
+
+class BrickBuilder {
+public:
+    explicit BrickBuilder(ocl::Device& device);
+    ~BrickBuilder();
+    ocl::Device& device() { return device_; }
+
+    // Builds one geometry (already at the scene's time). An empty geometry (no add edit) gives an
+    // empty, valid result. Throws InputError for settings or sizes the device cannot hold.
+    GeometryBuild build(const Geometry& g, const BuildSettings& settings);
+
+private:
+    struct Programs;
+    ocl::Device& device_;
+    Scan scan_;
+    std::unique_ptr<Programs> programs_;
+};
+
+// Digest of a build's output: leaf coordinates, domain, layout and every pool byte (reads the pool
+// back). Equal iff the bricks and pools are bit-identical. Edit lists are not part of it (culling
+// changes them by design); list_digest covers them.
+std::string output_digest(const GeometryBuild& b, const BuildSettings& s);
+std::string list_digest(const GeometryBuild& b);
+
+}  // namespace sdfbrick::construct

@@ -1,0 +1,250 @@
+#include "construct/edit_deps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "cl/launch.h"
+
+namespace sdfbrick::construct {
+
+namespace {
+
+constexpr const char* kBoundsStage = "edit_bounds";
+constexpr const char* kDepsStage = "dependencies";
+
+// Cells per axis never exceed this (the cell count is bounded by the box count anyway).
+constexpr double kMaxDim = double(1u << 20);
+
+std::size_t kernel_work_group_limit(const ocl::Device& device, cl_kernel kernel, const char* name) {
+    std::size_t limit = 0;
+    ocl::check(clGetKernelWorkGroupInfo(kernel, device.id(), CL_KERNEL_WORK_GROUP_SIZE, sizeof(limit), &limit,
+                                        nullptr),
+               fmt::format("querying the work-group size limit of {}", name));
+    return limit;
+}
+
+struct Grid {
+    std::array<float, 3> origin{0.0f, 0.0f, 0.0f};
+    float inv = 0.0f;  // 1 / cell side; 0: a single cell
+    std::array<std::uint32_t, 3> dims{1, 1, 1};
+    double cell = 0.0;
+
+    std::uint64_t cells() const { return std::uint64_t{dims[0]} * dims[1] * dims[2]; }
+};
+
+// Union of the finite coordinates of the valid influence boxes, their mean extent, their count.
+struct BoxStats {
+    std::array<double, 3> lo{}, hi{}, mean_extent{};
+    std::size_t boxes = 0;
+    bool usable() const {
+        for (int a = 0; a < 3; ++a)
+            if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]) || lo[a] > hi[a]) return false;
+        return true;
+    }
+};
+
+std::uint64_t cells_for(const std::array<double, 3>& extent, double cell) {
+    std::uint64_t cells = 1;
+    for (double e : extent) cells *= static_cast<std::uint64_t>(std::clamp(std::ceil(e / cell), 1.0, kMaxDim));
+    return cells;
+}
+
+Grid single_cell() { return Grid{}; }
+
+Grid grid_with_cell(const BoxStats& s, double cell) {
+    const double inv = 1.0 / cell;
+    if (!(cell > 0.0) || !std::isfinite(cell) || !(inv > 0.0) ||
+        !(inv < double(std::numeric_limits<float>::max())) || static_cast<float>(inv) <= 0.0f)
+        return single_cell();
+    Grid g;
+    g.cell = cell;
+    g.inv = static_cast<float>(inv);
+    for (int a = 0; a < 3; ++a) {
+        g.origin[a] = static_cast<float>(s.lo[a]);
+        g.dims[a] = static_cast<std::uint32_t>(std::clamp(std::ceil((s.hi[a] - s.lo[a]) / cell), 1.0, kMaxDim));
+    }
+    if (g.cells() == 1) return single_cell();
+    return g;
+}
+
+// About one cell per box (the smallest cubic cell for which the grid over the union has at most as
+// many cells as there are boxes), but no smaller than the mean box extent (averaged over the axes),
+// so that a typical box covers at most 2 x 2 x 2 cells.
+Grid choose_grid(const BoxStats& s) {
+    if (s.boxes < 2 || !s.usable()) return single_cell();
+    const std::array<double, 3> extent{s.hi[0] - s.lo[0], s.hi[1] - s.lo[1], s.hi[2] - s.lo[2]};
+    const double widest = std::max({extent[0], extent[1], extent[2]});
+    if (!(widest > 0.0)) return single_cell();
+    const auto target = static_cast<std::uint64_t>(s.boxes);
+    // cells_for is non-increasing in the cell side: bisect (geometrically) for the smallest fitting side.
+    double hi = widest;  // one cell along the widest axis: fits
+    double lo = widest / kMaxDim;
+    if (cells_for(extent, lo) <= target) {
+        hi = lo;
+    } else {
+        for (int it = 0; it < 64 && hi / lo > 1.0 + 1e-6; ++it) {
+            const double mid = std::sqrt(lo * hi);
+            (cells_for(extent, mid) <= target ? hi : lo) = mid;
+        }
+    }
+    const double mean = (s.mean_extent[0] + s.mean_extent[1] + s.mean_extent[2]) / 3.0;
+    double cell = hi;
+    if (std::isfinite(mean) && mean > cell) cell = mean;
+    return grid_with_cell(s, cell);
+}
+
+}  // namespace
+
+std::size_t EditDependencies::bytes() const {
+    return bounds.bytes() + influence.bytes() + offsets.bytes() + indices.bytes();
+}
+
+std::size_t DependencyBuilder::max_refs(std::size_t n) { return std::max<std::size_t>(32 * n, 65536); }
+
+DependencyBuilder::DependencyBuilder(ocl::Device& device, Scan& scan)
+    : device_(device), scan_(scan), bounds_program_(ocl::build_program(device, "edit_bounds.cl")),
+      deps_program_(ocl::build_program(device, "edit_deps.cl")),
+      edit_bounds_(ocl::make_kernel(bounds_program_, "edit_bounds")),
+      grid_stats_(ocl::make_kernel(deps_program_, "grid_stats")),
+      grid_refs_(ocl::make_kernel(deps_program_, "grid_refs")),
+      fill_uint_(ocl::make_kernel(deps_program_, "fill_uint")),
+      grid_count_(ocl::make_kernel(deps_program_, "grid_count")),
+      grid_fill_(ocl::make_kernel(deps_program_, "grid_fill")),
+      grid_sort_(ocl::make_kernel(deps_program_, "grid_sort")),
+      deps_count_(ocl::make_kernel(deps_program_, "deps_count")),
+      deps_write_(ocl::make_kernel(deps_program_, "deps_write")) {
+    const std::size_t limit = std::min(kernel_work_group_limit(device, grid_stats_.get(), "grid_stats"),
+                                       kernel_work_group_limit(device, grid_refs_.get(), "grid_refs"));
+    while (reduce_local_ > 1 && reduce_local_ > limit) reduce_local_ /= 2;  // stays a power of two
+}
+
+EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, std::size_t count,
+                                            measure::Scheduler& scheduler) {
+    if (count > edits.size())
+        throw std::out_of_range(fmt::format("DependencyBuilder::compute: {} edits asked for, the buffer holds {}",
+                                            count, edits.size()));
+    if (count >= 0xffffffffu)
+        throw std::length_error(fmt::format("DependencyBuilder::compute: {} edits is too many", count));
+    EditDependencies out{ocl::Buffer<SdfBounds>(device_, count), ocl::Buffer<SdfBounds>(device_, count),
+                         ocl::Buffer<cl_uint>(device_, count + 1), ocl::Buffer<cl_uint>(device_, 0)};
+    if (count == 0) {
+        const std::array<cl_uint, 1> zero{0};
+        out.offsets.write(zero);
+        return out;
+    }
+    const auto n = static_cast<cl_uint>(count);
+
+    // ---- bounds ----
+    ocl::set_args(edit_bounds_.get(), edits, n, out.bounds, out.influence);
+    scheduler.launch(kBoundsStage, -1, edit_bounds_.get(), count);
+
+    // ---- grid statistics (small read-back: 10 floats per work-group) ----
+    const std::size_t groups = (count + reduce_local_ - 1) / reduce_local_;
+    const std::size_t reduce_global = groups * reduce_local_;
+    std::size_t scratch = 0, peak = 0;
+    BoxStats stats;
+    {
+        ocl::Buffer<float> partials(device_, groups * 10);
+        scratch += partials.bytes();
+        peak = std::max(peak, scratch);
+        ocl::set_args(grid_stats_.get(), out.influence, n, partials,
+                      ocl::LocalMemory{10 * reduce_local_ * sizeof(float)});
+        scheduler.launch(kDepsStage, -1, grid_stats_.get(), reduce_global, reduce_local_);
+        const std::vector<float> p = partials.read();
+        scratch -= partials.bytes();
+        std::array<double, 3> sum{0.0, 0.0, 0.0};
+        for (int a = 0; a < 3; ++a) {
+            stats.lo[a] = std::numeric_limits<double>::infinity();
+            stats.hi[a] = -std::numeric_limits<double>::infinity();
+        }
+        double boxes = 0.0;
+        for (std::size_t g = 0; g < groups; ++g) {
+            for (int a = 0; a < 3; ++a) {
+                stats.lo[a] = std::min(stats.lo[a], double(p[g * 10 + a]));
+                stats.hi[a] = std::max(stats.hi[a], double(p[g * 10 + 3 + a]));
+                sum[a] += double(p[g * 10 + 6 + a]);
+            }
+            boxes += double(p[g * 10 + 9]);
+        }
+        stats.boxes = static_cast<std::size_t>(boxes);
+        for (int a = 0; a < 3; ++a) stats.mean_extent[a] = boxes > 0.0 ? sum[a] / boxes : 0.0;
+    }
+
+    // ---- the grid: coarsened until its cell references fit max_refs ----
+    Grid grid = choose_grid(stats);
+    std::uint64_t refs = 0;
+    const std::uint64_t cap = max_refs(count);
+    {
+        ocl::Buffer<cl_ulong> partials(device_, groups);
+        scratch += partials.bytes();
+        peak = std::max(peak, scratch);
+        for (int attempt = 0;; ++attempt) {
+            if (grid.cells() == 1) {
+                refs = 0;  // one reference per valid box: counted by the scan below
+                break;
+            }
+            ocl::set_args(grid_refs_.get(), out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv,
+                          grid.dims[0], grid.dims[1], grid.dims[2], partials,
+                          ocl::LocalMemory{reduce_local_ * sizeof(cl_ulong)});
+            scheduler.launch(kDepsStage, -1, grid_refs_.get(), reduce_global, reduce_local_);
+            refs = 0;
+            for (cl_ulong r : partials.read()) refs += r;
+            if (refs <= cap) break;
+            if (attempt >= 24) {
+                grid = single_cell();
+                continue;
+            }
+            const double factor = std::max(1.25, std::cbrt(double(refs) / double(cap)));
+            grid = grid_with_cell(stats, grid.cell * factor);
+        }
+        scratch -= partials.bytes();
+    }
+
+    // ---- cell lists ----
+    const std::size_t cells = static_cast<std::size_t>(grid.cells());
+    ocl::Buffer<cl_uint> cell_counts(device_, cells + 1);  // + 1: a 0 whose exclusive scan is the total
+    ocl::Buffer<cl_uint> cell_starts(device_, cells + 1);
+    scratch += cell_counts.bytes() + cell_starts.bytes();
+    ocl::set_args(fill_uint_.get(), cell_counts, static_cast<cl_uint>(cells + 1), cl_uint{0});
+    scheduler.launch(kDepsStage, -1, fill_uint_.get(), cells + 1);
+    const auto set_grid_args = [&](cl_kernel k, auto&&... rest) {
+        ocl::set_args(k, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv, grid.dims[0],
+                      grid.dims[1], grid.dims[2], rest...);
+    };
+    set_grid_args(grid_count_.get(), cell_counts);
+    scheduler.launch(kDepsStage, -1, grid_count_.get(), count);
+    const std::uint64_t total_refs = scan_.exclusive(cell_counts, cell_starts, cells + 1, scheduler, kDepsStage, -1);
+    ocl::Buffer<cl_uint> items(device_, static_cast<std::size_t>(total_refs));
+    scratch += items.bytes();
+    peak = std::max(peak, scratch);
+    set_grid_args(grid_fill_.get(), cell_starts, cell_counts, items);
+    scheduler.launch(kDepsStage, -1, grid_fill_.get(), count);
+    ocl::set_args(grid_sort_.get(), cell_starts, static_cast<cl_uint>(cells), items);
+    scheduler.launch(kDepsStage, -1, grid_sort_.get(), cells);
+
+    // ---- dependency lists ----
+    ocl::set_args(deps_count_.get(), edits, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2],
+                  grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out.offsets);
+    scheduler.launch(kDepsStage, -1, deps_count_.get(), count + 1);
+    out.total =
+        static_cast<std::size_t>(scan_.exclusive(out.offsets, out.offsets, count + 1, scheduler, kDepsStage, -1));
+    out.indices = ocl::Buffer<cl_uint>(device_, out.total);
+    if (out.total > 0) {
+        ocl::set_args(deps_write_.get(), edits, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2],
+                      grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out.offsets,
+                      out.indices);
+        scheduler.launch(kDepsStage, -1, deps_write_.get(), count);
+    }
+    out.scratch_bytes = peak;
+    out.grid_dims = grid.dims;
+    out.grid_cell = grid.inv > 0.0f ? static_cast<float>(grid.cell) : 0.0f;
+    out.grid_refs = static_cast<std::size_t>(total_refs);
+    return out;
+}
+
+}  // namespace sdfbrick::construct

@@ -1,0 +1,83 @@
+#include "construct/scan.h"
+
+#include <algorithm>
+#include <array>
+
+#include <fmt/format.h>
+
+#include "cl/launch.h"
+#include "core/errors.h"
+
+namespace sdfbrick::construct {
+
+namespace {
+
+std::size_t kernel_work_group_limit(const ocl::Device& device, cl_kernel kernel) {
+    std::size_t limit = 0;
+    ocl::check(clGetKernelWorkGroupInfo(kernel, device.id(), CL_KERNEL_WORK_GROUP_SIZE, sizeof(limit), &limit,
+                                        nullptr),
+               "querying the work-group size limit of scan_blocks");
+    return limit;
+}
+
+}  // namespace
+
+Scan::Scan(ocl::Device& device)
+    : device_(device), program_(ocl::build_program(device, "scan.cl")),
+      blocks_(ocl::make_kernel(program_, "scan_blocks")), add_(ocl::make_kernel(program_, "scan_add")),
+      overflow_(device, 1) {
+    const std::size_t limit = std::min(kernel_work_group_limit(device, blocks_.get()),
+                                       kernel_work_group_limit(device, add_.get()));
+    while (local_ > 1 && local_ > limit) local_ /= 2;  // stays a power of two
+}
+
+void Scan::scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n, std::size_t depth,
+                      measure::Scheduler& scheduler, const std::string& stage, int level) {
+    // sums_ and offsets_ were sized by exclusive(): growing them here would move the buffers that
+    // the callers up the recursion hold references to (in and out at depth > 0).
+    const std::size_t blocks = (n + block_size() - 1) / block_size();
+    const auto count = static_cast<cl_uint>(n);
+    ocl::set_args(blocks_.get(), in, out, count, sums_[depth], overflow_, ocl::LocalMemory{local_ * sizeof(cl_uint)});
+    scheduler.launch(stage, level, blocks_.get(), blocks * local_, local_);
+    if (blocks == 1) return;  // its only block offset is 0
+    scan_level(sums_[depth], offsets_[depth], blocks, depth + 1, scheduler, stage, level);
+    ocl::set_args(add_.get(), out, count, offsets_[depth], overflow_);
+    scheduler.launch(stage, level, add_.get(), blocks * local_, local_);
+}
+
+std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n,
+                              measure::Scheduler& scheduler, const std::string& stage, int level) {
+    if (n == 0) return 0;
+    if (n > in.size() || n > out.size()) throw std::out_of_range("Scan::exclusive: n exceeds a buffer");
+    if (n > 0xffffffffu) throw InputError(fmt::format("a prefix sum over {} values exceeds 2^32 values", n));
+    const std::array<cl_uint, 1> zero{0};
+    overflow_.write(zero);
+    // The total is the last exclusive value plus the last input (read first: in may be out).
+    std::array<cl_uint, 1> last_out{}, last_in{}, overflow{};
+    in.read_into(last_in, n - 1);
+    // Block-total buffers for every recursion depth, allocated before the recursion starts.
+    for (std::size_t m = n, depth = 0;; ++depth) {
+        const std::size_t blocks = (m + block_size() - 1) / block_size();
+        if (sums_.size() <= depth) {
+            sums_.emplace_back(device_, 0);
+            offsets_.emplace_back(device_, 0);
+        }
+        if (sums_[depth].size() < blocks) {
+            sums_[depth] = ocl::Buffer<cl_uint>(device_, blocks);
+            offsets_[depth] = ocl::Buffer<cl_uint>(device_, blocks);
+        }
+        if (blocks == 1) break;
+        m = blocks;
+    }
+    scan_level(in, out, n, 0, scheduler, stage, level);
+    out.read_into(last_out, n - 1);
+    overflow_.read_into(overflow);
+    const std::uint64_t total = std::uint64_t{last_out[0]} + last_in[0];
+    if (overflow[0] != 0 || total > 0xffffffffu)
+        throw InputError(fmt::format("a prefix sum in stage {} exceeds 2^32 (too many bricks or edit-list entries "
+                                     "for one build: use a larger brick size)",
+                                     stage));
+    return total;
+}
+
+}  // namespace sdfbrick::construct

@@ -1,0 +1,46 @@
+// Exclusive prefix sums of uint32 values on the device, of any length (no fixed cap): a block scan
+// per work-group, the block totals scanned recursively, then the block offsets added.
+#pragma once
+
+#include <CL/cl.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "measure/scheduler.h"
+#include "cl/buffer.h"
+#include "cl/device.h"
+#include "cl/handles.h"
+#include "cl/program.h"
+
+namespace sdfbrick::construct {
+
+class Scan {
+public:
+    explicit Scan(ocl::Device& device);
+
+    // out[i] = in[0] + ... + in[i-1] for i < n; returns the total in[0] + ... + in[n-1], which it reads
+    // back (one blocking read). in and out may be the same buffer. Throws InputError when a sum does
+    // not fit in 32 bits. Launches go through scheduler under (stage, level).
+    std::uint64_t exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n,
+                            measure::Scheduler& scheduler, const std::string& stage, int level);
+
+    // Values handled by one work-group.
+    std::size_t block_size() const { return local_ * 4; }
+
+private:
+    void scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n, std::size_t depth,
+                    measure::Scheduler& scheduler, const std::string& stage, int level);
+
+    ocl::Device& device_;
+    ocl::Program program_;
+    ocl::Kernel blocks_, add_;
+    std::size_t local_ = 256;
+    ocl::Buffer<cl_uint> overflow_;
+    std::vector<ocl::Buffer<cl_uint>> sums_;     // block totals per recursion depth
+    std::vector<ocl::Buffer<cl_uint>> offsets_;  // their exclusive scans
+};
+
+}  // namespace sdfbrick::construct

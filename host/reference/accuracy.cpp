@@ -1,0 +1,140 @@
+#include "reference/accuracy.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace sdfbrick::reference {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void check_pair(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world) {
+    test.check("test");
+    reference.check("reference");
+    if (test.width != reference.width || test.height != reference.height)
+        throw std::invalid_argument("accuracy: image sizes differ: test " + std::to_string(test.width) + " x " +
+                                    std::to_string(test.height) + ", reference " + std::to_string(reference.width) +
+                                    " x " + std::to_string(reference.height));
+    if (!(voxel_world > 0.0) || !std::isfinite(voxel_world))
+        throw std::invalid_argument("accuracy: voxel_world must be a finite value > 0, got " + std::to_string(voxel_world));
+}
+
+bool unconverged(const RenderBuffer& reference, std::size_t i) { return (reference.aux[i].s[1] & SDF_REF_UNCONVERGED) != 0u; }
+
+double depth_of(const RenderBuffer& b, std::size_t i) { return static_cast<double>(b.hit[i].s[3]); }
+
+double angle_deg(const glm::dvec3& a, const glm::dvec3& b) {
+    const double la = glm::length(a), lb = glm::length(b);
+    if (!(la > 0.0) || !(lb > 0.0) || !std::isfinite(la) || !std::isfinite(lb)) return 180.0;
+    const glm::dvec3 na = a / la, nb = b / lb;
+    return std::atan2(glm::length(glm::cross(na, nb)), glm::dot(na, nb)) * (180.0 / kPi);
+}
+
+// Nearest rank: v[ceil(p n / 100)] (1-based) of the sorted values, v[1] for rank 0; 0 when empty.
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double rank = std::ceil(p / 100.0 * static_cast<double>(v.size()));
+    const std::size_t r = rank < 1.0 ? 1 : std::min(static_cast<std::size_t>(rank), v.size());
+    return v[r - 1];
+}
+
+double mean(const std::vector<double>& v) {
+    if (v.empty()) return 0.0;
+    double s = 0.0;
+    for (double x : v) s += x;
+    return s / static_cast<double>(v.size());
+}
+
+glm::dvec3 heat(double e) {
+    if (std::isnan(e)) e = 1.0;  // e.g. inf - inf: shown as the worst error
+    e = std::clamp(e, 0.0, 1.0);
+    const glm::dvec3 stops[4] = {glm::dvec3(0.15), glm::dvec3(1.0, 0.0, 0.0), glm::dvec3(1.0, 1.0, 0.0), glm::dvec3(1.0)};
+    const double x = e * 3.0;
+    const int seg = std::min(static_cast<int>(x), 2);
+    const double f = x - seg;
+    return stops[seg] * (1.0 - f) + stops[seg + 1] * f;
+}
+
+}  // namespace
+
+AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world) {
+    check_pair(test, reference, voxel_world);
+    AccuracyMetrics m;
+    std::vector<double> depth_err, normal_err;
+    double sq = 0.0;
+    for (std::size_t i = 0; i < reference.pixels(); ++i) {
+        if (unconverged(reference, i)) {
+            ++m.reference_unconverged;
+            continue;
+        }
+        ++m.pixels;
+        const bool ht = test.is_hit(i), hr = reference.is_hit(i);
+        if (ht != hr) ++m.hit_mismatches;
+        if (ht && hr) {
+            ++m.both_hit;
+            depth_err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel_world);
+            normal_err.push_back(angle_deg(test.normal(i), reference.normal(i)));
+        }
+        const glm::dvec3 d = normal_colour(test, i) - normal_colour(reference, i);
+        sq += glm::dot(d, d);
+    }
+    m.mismatch_fraction = m.pixels == 0 ? 0.0 : static_cast<double>(m.hit_mismatches) / static_cast<double>(m.pixels);
+    m.depth_error_mean = mean(depth_err);
+    m.depth_error_max = depth_err.empty() ? 0.0 : *std::max_element(depth_err.begin(), depth_err.end());
+    m.depth_error_p99 = percentile(std::move(depth_err), 99.0);
+    m.normal_error_mean_deg = mean(normal_err);
+    m.normal_error_p99_deg = percentile(std::move(normal_err), 99.0);
+    const double mse = m.pixels == 0 ? 0.0 : sq / (3.0 * static_cast<double>(m.pixels));
+    m.psnr_db = mse > 0.0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+    return m;
+}
+
+nlohmann::json to_json(const AccuracyMetrics& m) {
+    nlohmann::json j;
+    j["pixels"] = m.pixels;
+    j["both_hit"] = m.both_hit;
+    j["hit_mismatches"] = m.hit_mismatches;
+    j["mismatch_fraction"] = m.mismatch_fraction;
+    j["depth_error_mean"] = m.depth_error_mean;
+    j["depth_error_p99"] = m.depth_error_p99;
+    j["depth_error_max"] = m.depth_error_max;
+    j["normal_error_mean_deg"] = m.normal_error_mean_deg;
+    j["normal_error_p99_deg"] = m.normal_error_p99_deg;
+    j["psnr_db"] = std::isfinite(m.psnr_db) ? nlohmann::json(m.psnr_db) : nlohmann::json(nullptr);
+    j["reference_unconverged"] = m.reference_unconverged;
+    return j;
+}
+
+Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world,
+                       double saturation_voxels) {
+    check_pair(test, reference, voxel_world);
+    if (!(saturation_voxels > 0.0) || !std::isfinite(saturation_voxels))
+        throw std::invalid_argument("accuracy: saturation_voxels must be a finite value > 0");
+    Image im(test.width, test.height, 3);
+    for (std::size_t i = 0; i < reference.pixels(); ++i) {
+        glm::dvec3 c(0.0);
+        const bool ht = test.is_hit(i), hr = reference.is_hit(i);
+        if (unconverged(reference, i)) {
+            c = glm::dvec3(0.0, 0.0, 1.0);
+        } else if (ht && !hr) {
+            c = glm::dvec3(1.0, 0.0, 1.0);
+        } else if (!ht && hr) {
+            c = glm::dvec3(0.0, 1.0, 1.0);
+        } else if (ht && hr) {
+            c = heat(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel_world / saturation_voxels);
+        }
+        set_pixel(im, i, c);
+    }
+    return im;
+}
+
+}  // namespace sdfbrick::reference

@@ -1,0 +1,279 @@
+// Sparse brick construction (host/build/brick_builder.h on the test device) against the
+// double-precision host reference (host/reference/): no surface cell without a brick, every stored
+// sample within one quantisation step of the reference, and the determinism contract: culling on and
+// off, dependencies on and off, repeated runs, and branching 2 and 4 all give bit-identical outputs.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <tuple>
+
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include "construct/brick_builder.h"
+#include "core/errors.h"
+#include "reference/reference_field.h"
+#include "reference/surface_cells.h"
+#include "scene/scene_json.h"
+#include "test_support.h"
+
+namespace sdfbrick {
+namespace {
+
+using construct::BrickFormat;
+using construct::BuildSettings;
+using construct::GeometryBuild;
+
+construct::BrickBuilder& builder() {
+    static construct::BrickBuilder b(test::device());
+    return b;
+}
+
+Edit make_edit(Primitive prim, std::array<double, 4> params, glm::dvec3 at, Op op = Op::Add, double blend = 0.0,
+               double angle = 0.0, double scale = 1.0) {
+    Edit e;
+    e.primitive = prim;
+    e.params = params;
+    e.transform.translation = at;
+    e.transform.rotation = glm::angleAxis(angle, glm::normalize(glm::dvec3(1.0, 2.0, 0.5)));
+    e.transform.scale = scale;
+    e.op = op;
+    e.blend = blend;
+    return e;
+}
+
+// Every primitive and every combine rule, hard and smooth, rotated and scaled.
+Geometry mixed_geometry() {
+    Geometry g;
+    g.name = "mixed";
+    g.edits = {
+        make_edit(Primitive::Sphere, {0.6, 0, 0, 0}, {0.0, 0.0, 0.0}),
+        make_edit(Primitive::Box, {0.4, 0.3, 0.5, 0}, {0.7, 0.1, 0.0}, Op::Add, 0.2, 0.7),
+        make_edit(Primitive::Torus, {0.45, 0.12, 0, 0}, {-0.5, 0.35, 0.2}, Op::Add, 0.15, 1.1),
+        make_edit(Primitive::Sphere, {0.3, 0, 0, 0}, {0.2, 0.45, 0.3}, Op::Subtract, 0.1),
+        make_edit(Primitive::Capsule, {0.35, 0.15, 0, 0}, {0.0, -0.55, 0.1}, Op::Add, 0.0, 0.4),
+        make_edit(Primitive::RoundBox, {0.25, 0.2, 0.3, 0.08}, {-0.2, -0.3, -0.6}, Op::Add, 0.1, 2.0, 1.2),
+        make_edit(Primitive::Cylinder, {0.3, 0.2, 0, 0}, {0.6, -0.4, 0.5}, Op::Add, 0.05),
+        make_edit(Primitive::Cone, {0.3, 0.25, 0.1, 0}, {-0.8, -0.2, 0.3}, Op::Add, 0.0, 0.3),
+        make_edit(Primitive::Ellipsoid, {0.3, 0.15, 0.2, 0}, {0.3, 0.7, -0.3}, Op::Add, 0.12, 0.9),
+        make_edit(Primitive::Menger, {0.3, 2, 0, 0}, {-0.7, 0.6, -0.5}, Op::Add, 0.0, 0.5),
+        make_edit(Primitive::Box, {0.12, 0.8, 0.12, 0}, {0.1, 0.0, 0.0}, Op::Subtract, 0.0, 0.2),
+        make_edit(Primitive::Box, {1.05, 1.0, 1.0, 0}, {0.0, 0.0, 0.0}, Op::Intersect, 0.05),
+    };
+    return g;
+}
+
+Geometry shipped_geometry(const char* name) {
+    const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
+    return scene_at(s, s.time).geometries.at(0);
+}
+
+// A corner of the drops scene: its first n edits (smooth spheres that overlap and chain).
+Geometry drops_subset(std::size_t n) {
+    Geometry g = shipped_geometry("drops");
+    g.edits.resize(std::min(n, g.edits.size()));
+    return g;
+}
+
+BuildSettings settings(double leaf, BrickFormat format = BrickFormat::int8, int samples = 8) {
+    BuildSettings s;
+    s.leaf_size = leaf;
+    s.format = format;
+    s.samples = samples;
+    s.chunk = 32;
+    s.eval_group = 64;
+    return s;
+}
+
+double stored_value(const std::vector<std::uint8_t>& pool, BrickFormat f, std::size_t i, float band) {
+    switch (f) {
+        case BrickFormat::int8: return static_cast<std::int8_t>(pool[i]) * (band / 127.0);
+        case BrickFormat::int16: {
+            std::int16_t v;
+            std::memcpy(&v, &pool[2 * i], 2);
+            return v * (band / 32767.0);
+        }
+        case BrickFormat::float32: {
+            float v;
+            std::memcpy(&v, &pool[4 * i], 4);
+            return v;
+        }
+    }
+    return 0.0;
+}
+
+// Leaves cover every reference surface cell; stored samples match the reference within one step.
+void check_against_reference(const Geometry& g, const BuildSettings& s) {
+    const GeometryBuild b = builder().build(g, s);
+    ASSERT_GT(b.leaf_count, 0u);
+    const construct::Domain domain = construct::make_domain(bounds(g), s.leaf_size, s.branching);
+    ASSERT_EQ(b.levels, domain.levels);
+    const std::vector<SdfBrick> leaves = b.leaves->read();
+    std::set<std::tuple<int, int, int>> have;
+    for (const SdfBrick& l : leaves) have.emplace(l.coord[0], l.coord[1], l.coord[2]);
+    ASSERT_EQ(have.size(), leaves.size()) << "duplicate leaf bricks";
+    std::size_t missing = 0;
+    const std::vector<glm::ivec3> cells = reference::surface_cells(g, domain);
+    for (const glm::ivec3& c : cells) missing += !have.count({c.x, c.y, c.z});
+    EXPECT_EQ(missing, 0u) << "of " << cells.size() << " reference surface cells";
+    // Not far more bricks than the reference needs (the margins are small).
+    EXPECT_LE(leaves.size(), cells.size() + cells.size() / 50 + 8);
+
+    const std::vector<std::uint8_t> pool = b.pool->read();
+    const int n = s.samples, a = s.apron(), interior = s.interior();
+    const auto voxel = static_cast<float>(s.voxel());
+    const double step = s.format == BrickFormat::int8    ? b.band / 127.0
+                        : s.format == BrickFormat::int16 ? b.band / 32767.0
+                                                         : 0.0;
+    // One quantisation step, plus the float evaluation's own rounding (test_field_eval's bound).
+    const double m = std::max({1.0, std::abs(double(b.origin.x)), std::abs(double(b.origin.y)), std::abs(double(b.origin.z))}) + 4.0;
+    const double tolerance = step + 32.0 * std::ldexp(1.0, -24) * m;
+    double worst = 0.0;
+    std::size_t over = 0, index = 0;
+    for (const SdfBrick& l : leaves) {
+        for (int k = 0; k < n; ++k)
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i, ++index) {
+                    const int ijk[3] = {i, j, k};
+                    glm::dvec3 p;
+                    for (int ax = 0; ax < 3; ++ax)  // the kernel's float arithmetic, step by step
+                        p[ax] = b.origin[ax] + (static_cast<float>(l.coord[ax] * interior + ijk[ax] - a) + 0.5f) * voxel;
+                    const double ref = std::clamp(reference::evaluate(g, p), -double(b.band), double(b.band));
+                    const double err = std::abs(stored_value(pool, s.format, index, b.band) - ref);
+                    worst = std::max(worst, err);
+                    over += err > tolerance;
+                }
+    }
+    EXPECT_EQ(over, 0u) << "samples beyond one step; worst error " << worst << ", tolerance " << tolerance;
+}
+
+TEST(ConstructBuild, MixedGeometryMatchesReferenceInt8) { check_against_reference(mixed_geometry(), settings(0.125)); }
+TEST(ConstructBuild, MixedGeometryMatchesReferenceInt16TwoVoxelApron) {
+    check_against_reference(mixed_geometry(), settings(0.125, BrickFormat::int16, 10));
+}
+TEST(ConstructBuild, MixedGeometryMatchesReferenceFloatOctree) {
+    BuildSettings s = settings(0.125, BrickFormat::float32);
+    s.branching = 2;
+    check_against_reference(mixed_geometry(), s);
+}
+TEST(ConstructBuild, SpheresMatchReference) { check_against_reference(shipped_geometry("spheres"), settings(0.0625)); }
+TEST(ConstructBuild, DropsCornerMatchesReference) { check_against_reference(drops_subset(48), settings(0.125)); }
+
+std::string digest(const Geometry& g, const BuildSettings& s) {
+    const GeometryBuild b = builder().build(g, s);
+    return construct::output_digest(b, s);
+}
+
+TEST(ConstructBuild, CullingOnAndOffAreBitIdentical) {
+    for (const Geometry& g : {mixed_geometry(), drops_subset(64), shipped_geometry("spheres")}) {
+        for (BrickFormat f : {BrickFormat::int8, BrickFormat::float32}) {
+            BuildSettings on = settings(0.125, f), off = on, deps = on;
+            off.cull = false;
+            deps.dependencies = true;
+            const GeometryBuild culled = builder().build(g, on);
+            const GeometryBuild full = builder().build(g, off);
+            EXPECT_EQ(construct::output_digest(culled, on), construct::output_digest(full, off)) << g.name;
+            EXPECT_EQ(digest(g, deps), construct::output_digest(full, off)) << g.name << " with dependencies";
+            EXPECT_EQ(culled.leaf_count, full.leaf_count);
+            if (g.edits.size() > 4) {
+                EXPECT_LT(culled.edits_per_leaf_mean, 0.7 * full.edits_per_leaf_mean) << g.name;
+            }
+        }
+    }
+}
+
+TEST(ConstructBuild, RepeatedRunsAreBitIdentical) {
+    const Geometry g = drops_subset(64);
+    const BuildSettings s = settings(0.125);
+    const GeometryBuild a = builder().build(g, s), b = builder().build(g, s);
+    EXPECT_EQ(construct::output_digest(a, s), construct::output_digest(b, s));
+    EXPECT_EQ(construct::list_digest(a), construct::list_digest(b));
+}
+
+TEST(ConstructBuild, BranchingTwoAndFourGiveTheSameLeaves) {
+    // Domains coincide when 4^(L-1) = 2^(L'-1): L' = 2L - 1 levels with branching 2.
+    const Geometry g = mixed_geometry();
+    BuildSettings four = settings(0.125), two = four;
+    four.levels = 4;  // 0.125 * 64 = 8 units: covers the geometry from its origin
+    two.branching = 2;
+    two.levels = 7;
+    const GeometryBuild b4 = builder().build(g, four), b2 = builder().build(g, two);
+    EXPECT_GT(b4.leaf_count, 100u);
+    EXPECT_EQ(b4.leaf_count, b2.leaf_count);
+    EXPECT_EQ(construct::output_digest(b4, four), construct::output_digest(b2, two));
+}
+
+TEST(ConstructBuild, ChunkAndGroupSizesDoNotChangeTheOutput) {
+    const Geometry g = drops_subset(64);
+    BuildSettings s = settings(0.125);
+    const std::string expected = digest(g, s);
+    for (auto [chunk, group] : {std::pair{16, 32}, {256, 512}, {64, 1}}) {
+        s.chunk = chunk;
+        s.eval_group = group;
+        EXPECT_EQ(digest(g, s), expected) << "chunk " << chunk << ", group " << group;
+    }
+}
+
+TEST(ConstructBuild, LevelsAndWorkAreReported) {
+    const GeometryBuild b = builder().build(drops_subset(64), settings(0.125));
+    ASSERT_EQ(b.level_reports.size(), static_cast<std::size_t>(b.levels));
+    EXPECT_EQ(b.level_reports.back().bricks, b.leaf_count);
+    EXPECT_GT(b.edit_evaluations, b.leaf_count * 512);
+    for (const char* r : {"brick pool", "brick records", "aabbs", "edit lists"}) EXPECT_GT(b.memory.at(r), 0u) << r;
+    EXPECT_EQ(b.memory.at("brick pool"), b.leaf_count * 512);
+    for (const char* stage : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"})
+        EXPECT_TRUE(std::any_of(b.launches.begin(), b.launches.end(), [&](const measure::Launch& l) { return l.stage == stage; }))
+            << stage;
+    // AABBs are the leaves' boxes.
+    const std::vector<SdfBounds> boxes = b.aabbs->read();
+    const std::vector<SdfBrick> leaves = b.leaves->read();
+    ASSERT_EQ(boxes.size(), leaves.size());
+    for (int ax = 0; ax < 3; ++ax) {
+        EXPECT_FLOAT_EQ(boxes[0].lo[ax], b.origin[ax] + static_cast<float>(leaves[0].coord[ax]) * b.leaf_size);
+        EXPECT_FLOAT_EQ(boxes[0].hi[ax] - boxes[0].lo[ax], b.leaf_size);
+    }
+}
+
+TEST(ConstructBuild, EmptyGeometryGivesAnEmptyValidResult) {
+    Geometry g;
+    g.name = "empty";
+    GeometryBuild b = builder().build(g, settings(0.125));
+    EXPECT_EQ(b.leaf_count, 0u);
+    g.edits = {make_edit(Primitive::Sphere, {0.5, 0, 0, 0}, {0, 0, 0}, Op::Subtract)};  // removes from nothing
+    b = builder().build(g, settings(0.125));
+    EXPECT_EQ(b.leaf_count, 0u);
+    EXPECT_EQ(b.pool->size(), 0u);
+}
+
+TEST(ConstructBuild, DegenerateAndTinyGeometry) {
+    Geometry g;
+    g.name = "point";
+    g.edits = {make_edit(Primitive::Sphere, {1e-6, 0, 0, 0}, {0.3, 0.3, 0.3})};
+    const GeometryBuild b = builder().build(g, settings(0.125));
+    EXPECT_GE(b.leaf_count, 1u);
+    EXPECT_LE(b.leaf_count, 8u);
+}
+
+TEST(ConstructBuild, RefusesWhatCannotBeBuilt) {
+    const Geometry g = mixed_geometry();
+    BuildSettings s = settings(1e-7);  // 2^30 leaf cells per axis and more
+    EXPECT_THROW(builder().build(g, s), InputError);
+    s = settings(0.125);
+    s.levels = 2;  // too few to cover the geometry
+    EXPECT_THROW(builder().build(g, s), InputError);
+    s = settings(0.125);
+    s.chunk = 8;
+    EXPECT_THROW(builder().build(g, s), InputError);
+    s = settings(0.125);
+    s.samples = 9;
+    EXPECT_THROW(builder().build(g, s), InputError);
+    s = settings(0.125);
+    s.eval_group = 96;
+    EXPECT_THROW(builder().build(g, s), InputError);
+    s = settings(std::nan(""));
+    EXPECT_THROW(builder().build(g, s), InputError);
+}
+
+}  // namespace
+}  // namespace sdfbrick
