@@ -48,8 +48,9 @@ Prepared& prepare(const std::string& name, double leaf) {
         p.scene = scene_at(file, file.time);
         construct::BuildSettings s;
         s.leaf_size = leaf;
+        measure::Scheduler scheduler(bench::device());
         p.bricks = std::make_unique<render::SceneBricks>(
-            render::build_scene_bricks(engine().bricks, engine().bvh, p.scene, s));
+            render::build_scene_bricks(engine().bricks, engine().bvh, p.scene, s, scheduler));
         p.key = key;
     }
     return p;
@@ -58,7 +59,8 @@ Prepared& prepare(const std::string& name, double leaf) {
 void bench_bvh(benchmark::State& state, const std::string& name, double leaf) {
     Prepared& p = prepare(name, leaf);
     for (auto _ : state) {
-        const bvh::SceneBvh b = engine().bvh.build(p.scene, p.bricks->builds);
+        measure::Scheduler scheduler(bench::device());
+        const bvh::SceneBvh b = engine().bvh.build(p.scene, p.bricks->builds, scheduler);
         state.SetIterationTime(b.device_ms * 1e-3);
     }
     state.counters["bricks"] = static_cast<double>(p.bricks->bricks);
@@ -76,7 +78,8 @@ void bench_trace(benchmark::State& state, const std::string& name, double leaf) 
     const SdfCamera camera = make_camera(p.scene.camera, kWidth, kHeight);
     render::TraceResult last;
     for (auto _ : state) {
-        last = engine().tracer.render(p.scene, *p.bricks, camera, t);
+        measure::Scheduler scheduler(bench::device());
+        last = engine().tracer.render(p.scene, *p.bricks, camera, t, scheduler);
         state.SetIterationTime(last.trace_ms * 1e-3);
     }
     const render::WorkCounts work = render::work_counts(last.buffer);

@@ -37,6 +37,12 @@ ocl::Device& device() {
     return devices[0];
 }
 
+measure::Scheduler& recorder() {
+    static std::optional<measure::Scheduler> scheduler;
+    scheduler.emplace(device());
+    return *scheduler;
+}
+
 std::filesystem::path temp_dir(std::string_view name) {
     const std::filesystem::path dir = std::filesystem::path(SDFBRICK_TEST_TMP) / std::filesystem::path(name);
     std::filesystem::remove_all(dir);

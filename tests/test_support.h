@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "cl/device.h"
+#include "measure/scheduler.h"
 
 namespace sdfbrick::test {
 
@@ -19,6 +20,9 @@ ocl::Device& device();
 
 // A newly opened set of the devices that $SDFBRICK_TEST_DEVICE selects (nothing cached in memory yet).
 ocl::DeviceSet open_test_devices();
+
+// A new launch recorder on device() for one call of a builder or tracer (the previous one is dropped).
+measure::Scheduler& recorder();
 
 // A fresh, empty directory SDFBRICK_TEST_TMP/name (removed first if it exists).
 std::filesystem::path temp_dir(std::string_view name);

@@ -83,7 +83,7 @@ struct TreeScratch {
     std::uint64_t bytes() const { return node_parent.bytes() + leaf_parent.bytes() + arrivals.bytes(); }
 };
 
-void BvhBuilder::build_tree(measure::Scheduler& scheduler, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
+void BvhBuilder::build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
                             const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                             std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes,
                             std::size_t slot, ocl::Buffer<cl_uint>& flags) {
@@ -102,12 +102,13 @@ void BvhBuilder::build_tree(measure::Scheduler& scheduler, const std::string& st
     scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
 }
 
-SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds) {
+SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
+                           measure::Scheduler& scheduler) {
     const auto wall_start = std::chrono::steady_clock::now();
     if (builds.size() != scene.geometries.size())
         throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
     SceneBvh out;
-    measure::Scheduler scheduler(device_);
+    const std::size_t first_launch = scheduler.size();
 
     // Bottom levels: one tree per geometry, all in one node array.
     std::size_t total_nodes = 0, max_leaves = 1;
@@ -128,8 +129,8 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
         out.roots.push_back(n == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(offset));
         if (n == 0) continue;
         ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), keys, flags);
-        scheduler.launch("bvh", -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
-        build_tree(scheduler, "bvh", keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
+        scheduler.launch(measure::Stage::bvh, -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
+        build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
         offset += nodes_for(n);
     }
     const cl_uint flag = flags.read()[0];
@@ -197,12 +198,12 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     ocl::Buffer<cl_ulong> tlas_key_buffer(device_, tlas_keys, CL_MEM_READ_ONLY);
     ocl::Buffer<SdfBounds> tlas_boxes(device_, leaf_boxes, CL_MEM_READ_ONLY);
     TreeScratch tlas_scratch(device_, instances.size());
-    build_tree(scheduler, "tlas", tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
+    build_tree(scheduler, measure::Stage::tlas, tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
                builds.size(), flags);
     if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
 
-    out.launches = scheduler.resolve();
-    out.device_ms = scheduler.total_ms();
+    scheduler.resolve();
+    out.device_ms = scheduler.total_ms(first_launch);
     out.memory["bvh nodes"] = out.nodes->bytes();
     out.memory["tlas nodes"] = out.tlas->bytes() + out.instances->bytes();
     out.memory["bvh scratch"] = keys.bytes() + scratch.bytes();

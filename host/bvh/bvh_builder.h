@@ -29,8 +29,7 @@ struct SceneBvh {
     std::vector<SdfBounds> geometry_boxes;   // per geometry: the box of its bricks (geometry frame)
     std::vector<std::size_t> instance_objects;  // instances[i] is scene object instance_objects[i]
     std::uint64_t node_count = 0, tlas_node_count = 0;
-    std::vector<measure::Launch> launches;
-    double device_ms = 0.0;
+    double device_ms = 0.0;  // the BVH's launches
     double host_ms = 0.0;
     std::map<std::string, std::uint64_t> memory;
 };
@@ -46,11 +45,12 @@ public:
     // top level with one instance of a geometry without bricks (SdfBrickGeometry root SDF_NO_NODE),
     // which every ray misses. Throws InputError when a brick coordinate exceeds the 21 bits per axis
     // of the Morton keys (too many levels).
-    SceneBvh build(const Scene& scene, std::span<const construct::GeometryBuild> builds);
+    // Every launch is recorded in scheduler (the run's launch recorder).
+    SceneBvh build(const Scene& scene, std::span<const construct::GeometryBuild> builds, measure::Scheduler& scheduler);
 
 private:
     struct Programs;
-    void build_tree(measure::Scheduler& scheduler, const std::string& stage, const ocl::Buffer<cl_ulong>& keys,
+    void build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
                     const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                     std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,
                     ocl::Buffer<cl_uint>& flags);

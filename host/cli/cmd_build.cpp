@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "construct/brick_builder.h"
+#include "pipeline/run.h"
 #include "cli/build_flags.h"
 #include "cli/commands.h"
 #include "core/errors.h"
@@ -38,47 +38,25 @@ std::string bytes_text(std::uint64_t b) {
 struct DeviceRun {
     construct::BuildSettings settings;  // with the tuning applied
     tune::Applied tuning;
-    std::vector<construct::GeometryBuild> builds;  // last capture
-    std::vector<measure::Capture> captures;
-    std::vector<measure::StageStats> stages;
-    measure::Spread total;
+    pipeline::Run run;
     std::vector<measure::KernelRow> kernels;
-    std::string digest, list_digest;
-    bool repeats_identical = true;
+    const std::vector<construct::GeometryBuild>& builds() const { return run.bricks.builds; }
 };
 
 DeviceRun run_device(ocl::Device& device, const Scene& scene, const BuildOptions& o, const tune::TuningDb* db) {
-    construct::BrickBuilder builder(device);
-    DeviceRun run;
-    run.settings = o.flags.resolve();
-    run.tuning = tune::apply_tuning(db, device.info(), o.flags.given(), run.settings, nullptr);
-    run.settings.validate(device.info());
-    for (int r = 0; r < o.measure.warmups() + o.measure.repeat; ++r) {
-        std::vector<construct::GeometryBuild> builds;
-        measure::Capture capture;
-        Fnv1a64 digest, lists;
-        for (const Geometry& g : scene.geometries) {
-            builds.push_back(builder.build(g, run.settings));
-            capture.insert(capture.end(), builds.back().launches.begin(), builds.back().launches.end());
-            digest.add_part(construct::output_digest(builds.back(), run.settings));
-            lists.add_part(construct::list_digest(builds.back()));
-        }
-        if (r < o.measure.warmups()) continue;
-        run.captures.push_back(std::move(capture));
-        if (run.captures.size() > 1 && digest.hex() != run.digest) run.repeats_identical = false;
-        run.digest = digest.hex();
-        run.list_digest = lists.hex();
-        run.builds = std::move(builds);
-    }
-    run.stages = measure::stage_stats(run.captures);
-    run.total = measure::total_stats(run.captures);
-    run.kernels = measure::kernel_rows(run.captures, device.info());
-    return run;
+    DeviceRun d;
+    d.settings = o.flags.resolve();
+    d.tuning = tune::apply_tuning(db, device.info(), o.flags.given(), d.settings, nullptr);
+    d.settings.validate(device.info());
+    pipeline::Runner runner(device);
+    d.run = runner.run(scene, {pipeline::Work::construct, d.settings, {}, o.measure.warmups(), o.measure.repeat, true});
+    d.kernels = measure::kernel_rows(d.run.captures, device.info());
+    return d;
 }
 
 std::string report_text(const ocl::Device& device, const DeviceRun& run, const BuildOptions& o) {
     std::string s = fmt::format("device {} [{}]\n  {}\n", device.info().index, device.info().name, run.tuning.text);
-    for (const auto& b : run.builds) {
+    for (const auto& b : run.builds()) {
         s += fmt::format("  geometry {}: {} leaf bricks of {} ({} levels), C = {:.4g}, band +-{:.4g}\n", b.name,
                          b.leaf_count, b.leaf_size, b.levels, b.clamp_c, b.band);
         s += "    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms\n";
@@ -94,16 +72,16 @@ std::string report_text(const ocl::Device& device, const DeviceRun& run, const B
         s += "    memory: " + mem + "\n";
     }
     std::string stages;
-    for (const auto& st : run.stages) stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", st.name, st.ms.median);
-    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms\n", run.captures.size() > 1 ? ", medians" : "", stages,
-                     run.total.median);
-    if (run.captures.size() > 1) {
+    for (const auto& st : run.run.stages) stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", to_string(st.stage), st.ms.median);
+    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms\n", run.run.captures.size() > 1 ? ", medians" : "", stages,
+                     run.run.total_ms.median);
+    if (run.run.captures.size() > 1) {
         s += fmt::format("  total over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n",
-                         run.captures.size(), run.total.median, run.total.min, run.total.max, 100.0 * run.total.cv);
-        s += measure::stage_table_text(run.stages, run.repeats_identical);
+                         run.run.captures.size(), run.run.total_ms.median, run.run.total_ms.min, run.run.total_ms.max, 100.0 * run.run.total_ms.cv);
+        s += measure::stage_table_text(run.run.stages, run.run.identical);
     }
     if (o.measure.kernel_stats) s += measure::kernel_table_text(run.kernels);
-    s += fmt::format("  digest {} (edit lists {})\n", run.digest, run.list_digest);
+    s += fmt::format("  digest {} (edit lists {})\n", run.run.brick_digest, run.run.list_digest);
     return s;
 }
 
@@ -113,7 +91,7 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
     std::map<std::string, std::uint64_t> memory;
     nlohmann::json geometries = nlohmann::json::array();
     double host_ms = 0.0;
-    for (const auto& b : run.builds) {
+    for (const auto& b : run.builds()) {
         bricks += b.leaf_count;
         evaluations += b.edit_evaluations;
         entries += b.level_reports.empty() ? 0 : b.level_reports.back().edit_entries * (b.leaf_count > 0);
@@ -127,7 +105,8 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
                               {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
                               {"cull_ms", l.cull_ms}});
         nlohmann::json launches = nlohmann::json::array();
-        for (const auto& l : b.launches) launches.push_back(measure::to_json(l));
+        const measure::Capture& last = run.run.captures.back();
+        for (std::size_t i = b.first_launch; i < b.end_launch; ++i) launches.push_back(measure::to_json(last[i]));
         geometries.push_back({{"name", b.name}, {"bricks", b.leaf_count}, {"levels", levels},
                               {"origin", {b.origin.x, b.origin.y, b.origin.z}}, {"leaf_size", b.leaf_size},
                               {"clamp_c", b.clamp_c}, {"band", b.band},
@@ -136,19 +115,19 @@ nlohmann::json device_json(const ocl::Device& device, const DeviceRun& run) {
                               {"memory", b.memory}, {"device_ms", b.device_ms}, {"host_ms", b.host_ms},
                               {"launches", launches}});
     }
-    const double ms = run.total.median;
+    const double ms = run.run.total_ms.median;
     const double seconds = ms * 1e-3;
     return {{"device", device.info().to_json()},
             {"settings", settings_json(run.settings)},
             {"tuning", run.tuning.record},
             {"bricks", bricks},
-            {"digest", run.digest},
-            {"list_digest", run.list_digest},
-            {"stages", measure::to_json(run.stages)},
+            {"digest", run.run.brick_digest},
+            {"list_digest", run.run.list_digest},
+            {"stages", measure::to_json(run.run.stages)},
             {"device_ms", ms},
             {"host_ms", host_ms},
-            {"total_ms", measure::to_json(run.total)},
-            {"captures", {{"repeat", run.captures.size()}, {"identical", run.repeats_identical}}},
+            {"total_ms", measure::to_json(run.run.total_ms)},
+            {"captures", {{"repeat", run.run.captures.size()}, {"identical", run.run.identical}}},
             {"kernels", measure::to_json(run.kernels)},
             {"memory", memory},
             {"edits_per_leaf", {{"mean", bricks ? static_cast<double>(entries) / static_cast<double>(bricks) : 0.0}, {"max", max_edits}}},
@@ -180,11 +159,11 @@ void run_build(BuildOptions o, const GlobalOptions& global) {
         text += report_text(device, run, o);
         device_reports.push_back(device_json(device, run));
         if (first_digest.empty()) {
-            first_digest = run.digest;
-            first_lists = run.list_digest;
+            first_digest = run.run.brick_digest;
+            first_lists = run.run.list_digest;
         } else {
-            agree = agree && run.digest == first_digest;
-            lists_agree = lists_agree && run.list_digest == first_lists;
+            agree = agree && run.run.brick_digest == first_digest;
+            lists_agree = lists_agree && run.run.list_digest == first_lists;
         }
     }
     if (devices.size() > 1)

@@ -19,7 +19,7 @@
 #include "reference/accuracy.h"
 #include "render/brick_tracer.h"
 #include "render/pictures.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/run.h"
 #include "reference/device_tracer.h"
 #include "scene/scene_json.h"
 
@@ -103,8 +103,8 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
         const tune::Applied tuning = tune::apply_tuning(tuning_db, device.info(), given, settings, &trace);
         text += "  " + tuning.text + "\n";
         r.json["tuning"] = tuning.record;
-        pipeline::Pipeline pipeline(device);
-        pipeline::PipelineRun run = pipeline.run(scene, settings, trace, o.measure.warmups(), o.measure.repeat);
+        pipeline::Runner runner(device);
+        pipeline::Run run = runner.run(scene, {pipeline::Work::trace, settings, trace, o.measure.warmups(), o.measure.repeat});
         const render::SceneBricks& bricks = run.bricks;
         r.digest = run.trace_digest;
         r.buffer = std::move(run.trace->buffer);
@@ -137,7 +137,7 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
                             "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
                             run.build_ms.median, bricks.bricks, run.bvh_ms.median, bricks.bvh.node_count, trace_ms,
                             pixels / (trace_ms * 1e-3), work.node_visits, work.brick_steps,
-                            trace.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(run.stages, "shade")) : "");
+                            trace.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(run.stages, measure::Stage::shade)) : "");
         if (o.measure.repeat > 1) text += measure::stage_table_text(run.stages, run.identical);
         if (o.measure.kernel_stats) text += measure::kernel_table_text(kernels);
         if (check_trees) {  // several devices: the trees must agree too (and be valid)

@@ -11,13 +11,11 @@
 
 #include <fmt/format.h>
 
-#include "construct/brick_builder.h"
-#include "bvh/bvh_builder.h"
 #include "cli/build_flags.h"
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
-#include "render/brick_tracer.h"
+#include "pipeline/run.h"
 #include "scene/to_device.h"
 #include "scene/scene_json.h"
 #include "tune/apply.h"
@@ -53,16 +51,8 @@ std::string now_iso() {
     return buf;
 }
 
-// Minimum over repeats of f() after warm-up runs; +infinity when the device refuses the configuration.
-template <class F>
-double best_of(int warmup, int repeat, F&& f) {
-    double best = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < warmup + repeat; ++i) {
-        const double ms = f();
-        if (i >= warmup) best = std::min(best, ms);
-    }
-    return best;
-}
+// The evaluation kernel's cost: the stages its chunk size governs.
+constexpr measure::Stage kEvaluateObjective[] = {measure::Stage::count, measure::Stage::evaluate};
 
 std::vector<int> powers_of_two(int lo, int hi) {
     std::vector<int> v;
@@ -150,7 +140,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
         const ocl::DeviceInfo& info = device.info();
         say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
         nlohmann::json report = {{"device", info.to_json()}};
-        construct::BrickBuilder builder(device);
+        pipeline::Runner runner(device);
         construct::BuildSettings settings = base;
         if (want_eval) {
             tune::Space space;
@@ -166,15 +156,8 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
                     return std::numeric_limits<double>::infinity();
                 }
                 try {
-                    return best_of(o.warmup, o.repeat, [&] {
-                    double ms = 0.0;
-                    for (const Geometry& g : scene.geometries) {
-                        const construct::GeometryBuild b = builder.build(g, s);
-                        for (const auto& l : b.launches)
-                            if (l.stage == "count" || l.stage == "evaluate") ms += l.device_ms;
-                    }
-                    return ms;
-                    });
+                    const pipeline::Run run = runner.run(scene, {pipeline::Work::construct, s, {}, o.warmup, o.repeat});
+                    return measure::stages_stats(run.captures, kEvaluateObjective).min;
                 } catch (const InputError&) {  // more work-items than the kernel allows here
                     return std::numeric_limits<double>::infinity();
                 }
@@ -188,10 +171,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
             }
         }
         if (want_trace) {
-            bvh::BvhBuilder bvh_builder(device);
-            render::BrickTracer tracer(device);
-            const render::SceneBricks bricks = render::build_scene_bricks(builder, bvh_builder, scene, settings);
-            const SdfCamera camera = make_camera(scene.camera, o.width, o.height);
+            const pipeline::Run built = runner.run(scene, {pipeline::Work::bvh, settings});
             tune::Space space;
             space.dims = {{"group_x", powers_of_two(4, 64)}, {"group_y", powers_of_two(1, 32)}};
             const auto cost = [&](const tune::Config& c) {
@@ -203,7 +183,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
                 ts.group_x = c.at("group_x");
                 ts.group_y = c.at("group_y");
                 try {
-                    return best_of(o.warmup, o.repeat, [&] { return tracer.render(scene, bricks, camera, ts).trace_ms; });
+                    return runner.trace(scene, built.bricks, {pipeline::Work::trace, settings, ts, o.warmup, o.repeat}).trace_ms.min;
                 } catch (const InputError&) {
                     return std::numeric_limits<double>::infinity();
                 }

@@ -113,7 +113,7 @@ float float_up(double x) {
 
 }  // namespace
 
-GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
+GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, measure::Scheduler& scheduler) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate(device_.info());
     if (g.edits.size() > SDF_MAX_EDITS)
@@ -121,7 +121,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
                                      SDF_MAX_EDITS));
     GeometryBuild out;
     out.name = g.name;
-    measure::Scheduler scheduler(device_);
+    out.first_launch = out.end_launch = scheduler.size();
 
     const Aabb box = bounds(g);
     if (box.empty()) {  // no add edit: nothing can be solid, an empty and valid result
@@ -209,9 +209,9 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
         ocl::set_args(programs_->count_k.get(), edits, *parent_lists, *parents, lb, ox, oy, oz, cell, threshold(level),
                       out.clamp_c, counts, ocl::LocalMemory{count_local_bytes}, static_cast<cl_uint>(s.chunk),
                       ocl::LocalMemory{group * sizeof(cl_uint)});
-        scheduler.launch("count", level, programs_->count_k.get(), candidates, group);
+        scheduler.launch(measure::Stage::count, level, programs_->count_k.get(), candidates, group);
         // scan
-        const std::uint64_t children = scan_.exclusive(counts, offsets, parent_count, scheduler, "scan", level);
+        const std::uint64_t children = scan_.exclusive(counts, offsets, parent_count, scheduler, measure::Stage::scan, level);
         // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count
         // grows about B^2 per level, so project the leaves from this level's count (generously).
         const int remaining = levels - 1 - level;
@@ -231,7 +231,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
         if (children > 0) {
             ocl::set_args(programs_->subdivide_k.get(), *parents, static_cast<cl_uint>(parent_count), lb, offsets, *bricks);
             const std::size_t global = round_up(candidates, kGroup1d);
-            scheduler.launch("subdivide", level, programs_->subdivide_k.get(), global, kGroup1d);
+            scheduler.launch(measure::Stage::subdivide, level, programs_->subdivide_k.get(), global, kGroup1d);
         }
         if (level > 0) level_bricks.push_back(std::move(parents));  // the parent level's masks are final now
         // cull
@@ -241,26 +241,26 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
             if (words.size() < children) words = allocate<cl_uint>(device_, children, "the cull word counts");
             if (counts.size() < children) counts = allocate<cl_uint>(device_, children, "the cull counts");
             ocl::set_args(programs_->words_k.get(), *bricks, static_cast<cl_uint>(children), words);
-            scheduler.launch("cull", level, programs_->words_k.get(), global, kGroup1d);
-            const std::uint64_t total_words = scan_.exclusive(words, words, children, scheduler, "cull", level);
+            scheduler.launch(measure::Stage::cull, level, programs_->words_k.get(), global, kGroup1d);
+            const std::uint64_t total_words = scan_.exclusive(words, words, children, scheduler, measure::Stage::cull, level);
             if (bits.size() < total_words) bits = allocate<cl_uint>(device_, total_words, "the cull bit sets");
             if (total_words > 0) {
                 const std::size_t word_global = round_up(total_words, kGroup1d);
                 ocl::set_args(programs_->mark_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
                               static_cast<cl_uint>(total_words), ox, oy, oz, cell, cull_radius(level), out.clamp_c,
                               static_cast<float>(magnitude), words, bits);
-                scheduler.launch("cull", level, programs_->mark_k.get(), word_global, kGroup1d);
+                scheduler.launch(measure::Stage::cull, level, programs_->mark_k.get(), word_global, kGroup1d);
             }
             ocl::set_args(programs_->cull_count_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
                           words, bits, static_cast<cl_uint>(deps ? 1 : 0), dep_offsets, dep_indices, counts);
-            scheduler.launch("cull", level, programs_->cull_count_k.get(), global, kGroup1d);
+            scheduler.launch(measure::Stage::cull, level, programs_->cull_count_k.get(), global, kGroup1d);
             if (offsets.size() < children) offsets = allocate<cl_uint>(device_, children, "the list offsets");
-            const std::uint64_t entries = scan_.exclusive(counts, offsets, children, scheduler, "cull", level);
+            const std::uint64_t entries = scan_.exclusive(counts, offsets, children, scheduler, measure::Stage::cull, level);
             lists = std::make_unique<ocl::Buffer<cl_uint>>(
                 allocate<cl_uint>(device_, entries, fmt::format("the edit lists of level {}", level)));
             ocl::set_args(programs_->write_k.get(), *parent_lists, *bricks, static_cast<cl_uint>(children), words, bits,
                           offsets, *lists);
-            scheduler.launch("cull", level, programs_->write_k.get(), global, kGroup1d);
+            scheduler.launch(measure::Stage::cull, level, programs_->write_k.get(), global, kGroup1d);
             list_bytes += lists->bytes();
             list_entries.push_back(entries);
         } else {
@@ -297,15 +297,16 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
         ocl::set_args(kernel.get(), edits, *parent_lists, *level_bricks.back(), ox, oy, oz, static_cast<float>(voxel),
                       out.clamp_c, out.band, quant, *out.pool, ocl::LocalMemory{count_local_bytes},
                       static_cast<cl_uint>(s.chunk));
-        scheduler.launch("evaluate", levels - 1, kernel.get(), out.leaf_count * group, group);
+        scheduler.launch(measure::Stage::evaluate, levels - 1, kernel.get(), out.leaf_count * group, group);
         const std::size_t global = round_up(out.leaf_count, kGroup1d);
         ocl::set_args(programs_->aabb_k.get(), *level_bricks.back(), static_cast<cl_uint>(out.leaf_count), ox, oy, oz,
                       out.leaf_size, *out.aabbs);
-        scheduler.launch("aabb", levels - 1, programs_->aabb_k.get(), global, kGroup1d);
+        scheduler.launch(measure::Stage::aabb, levels - 1, programs_->aabb_k.get(), global, kGroup1d);
     }
     device_.finish();
-    out.launches = scheduler.resolve();
-    out.device_ms = scheduler.total_ms();
+    scheduler.resolve();
+    out.end_launch = scheduler.size();
+    out.device_ms = scheduler.total_ms(out.first_launch);
 
     // Report: bricks, list lengths and work per level (read back the records; not part of device time).
     std::uint64_t evaluations = 0;
@@ -327,10 +328,10 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s) {
                                (l == 0 ? records.size()
                                        : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
         }
-        r.count_ms = scheduler.stage_ms("count", r.level);
-        r.scan_ms = scheduler.stage_ms("scan", r.level);
-        r.subdivide_ms = scheduler.stage_ms("subdivide", r.level);
-        r.cull_ms = scheduler.stage_ms("cull", r.level);
+        r.count_ms = scheduler.stage_ms(measure::Stage::count, r.level, out.first_launch);
+        r.scan_ms = scheduler.stage_ms(measure::Stage::scan, r.level, out.first_launch);
+        r.subdivide_ms = scheduler.stage_ms(measure::Stage::subdivide, r.level, out.first_launch);
+        r.cull_ms = scheduler.stage_ms(measure::Stage::cull, r.level, out.first_launch);
         out.level_reports.push_back(r);
         prev_entries = r.edit_entries;
         prev = records;

@@ -76,7 +76,8 @@ struct GeometryBuild {
     std::uint64_t edit_evaluations = 0;  // count + cull + evaluate
     std::uint64_t dependency_entries = 0;
     std::map<std::string, std::uint64_t> memory;  // bytes per resource
-    std::vector<measure::Launch> launches;
+    // This build's launches in the recorder it was given: [first_launch, end_launch).
+    std::size_t first_launch = 0, end_launch = 0;
     double device_ms = 0.0;  // all launches
     double host_ms = 0.0;    // wall time of build(), including read-backs
 
@@ -94,7 +95,8 @@ public:
 
     // Builds one geometry (already at the scene's time). An empty geometry (no add edit) gives an
     // empty, valid result. Throws InputError for settings or sizes the device cannot hold.
-    GeometryBuild build(const Geometry& g, const BuildSettings& settings);
+    // Every launch is recorded in scheduler (the run's launch recorder); build() waits for its own.
+    GeometryBuild build(const Geometry& g, const BuildSettings& settings, measure::Scheduler& scheduler);
 
 private:
     struct Programs;

@@ -14,8 +14,8 @@ namespace sdfbrick::construct {
 
 namespace {
 
-constexpr const char* kBoundsStage = "edit_bounds";
-constexpr const char* kDepsStage = "dependencies";
+constexpr measure::Stage kBoundsStage = measure::Stage::edit_bounds;
+constexpr measure::Stage kDepsStage = measure::Stage::dependencies;
 
 // Cells per axis never exceed this (the cell count is bounded by the box count anyway).
 constexpr double kMaxDim = double(1u << 20);

@@ -32,7 +32,7 @@ Scan::Scan(ocl::Device& device)
 }
 
 void Scan::scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n, std::size_t depth,
-                      measure::Scheduler& scheduler, const std::string& stage, int level) {
+                      measure::Scheduler& scheduler, measure::Stage stage, int level) {
     // sums_ and offsets_ were sized by exclusive(): growing them here would move the buffers that
     // the callers up the recursion hold references to (in and out at depth > 0).
     const std::size_t blocks = (n + block_size() - 1) / block_size();
@@ -46,7 +46,7 @@ void Scan::scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out,
 }
 
 std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n,
-                              measure::Scheduler& scheduler, const std::string& stage, int level) {
+                              measure::Scheduler& scheduler, measure::Stage stage, int level) {
     if (n == 0) return 0;
     if (n > in.size() || n > out.size()) throw std::out_of_range("Scan::exclusive: n exceeds a buffer");
     if (n > 0xffffffffu) throw InputError(fmt::format("a prefix sum over {} values exceeds 2^32 values", n));
@@ -76,7 +76,7 @@ std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uin
     if (overflow[0] != 0 || total > 0xffffffffu)
         throw InputError(fmt::format("a prefix sum in stage {} exceeds 2^32 (too many bricks or edit-list entries "
                                      "for one build: use a larger brick size)",
-                                     stage));
+                                     to_string(stage)));
     return total;
 }
 

@@ -25,14 +25,14 @@ public:
     // back (one blocking read). in and out may be the same buffer. Throws InputError when a sum does
     // not fit in 32 bits. Launches go through scheduler under (stage, level).
     std::uint64_t exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n,
-                            measure::Scheduler& scheduler, const std::string& stage, int level);
+                            measure::Scheduler& scheduler, measure::Stage stage, int level);
 
     // Values handled by one work-group.
     std::size_t block_size() const { return local_ * 4; }
 
 private:
     void scan_level(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uint>& out, std::size_t n, std::size_t depth,
-                    measure::Scheduler& scheduler, const std::string& stage, int level);
+                    measure::Scheduler& scheduler, measure::Stage stage, int level);
 
     ocl::Device& device_;
     ocl::Program program_;

@@ -34,15 +34,15 @@ nlohmann::json to_json(const Launch& l) {
     const std::vector<std::size_t> global(l.global.begin(), l.global.begin() + l.dims);
     nlohmann::json local = nullptr;
     if (l.local) local = std::vector<std::size_t>(l.local->begin(), l.local->begin() + l.dims);
-    return {{"stage", l.stage}, {"level", l.level}, {"kernel", l.kernel}, {"global", global}, {"local", local},
+    return {{"stage", to_string(l.stage)}, {"level", l.level}, {"kernel", l.kernel}, {"global", global}, {"local", local},
             {"device_ms", l.device_ms}, {"queue_ms", l.queue_ms}, {"submit_ms", l.submit_ms},
             {"enqueue_ms", l.enqueue_ms}, {"attributes", to_json(l.attributes)}};
 }
 
-void Scheduler::launch(std::string stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
+void Scheduler::launch(Stage stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
                        std::optional<std::array<std::size_t, 3>> local, cl_uint dims) {
     Launch l;
-    l.stage = std::move(stage);
+    l.stage = stage;
     l.level = level;
     l.attributes = kernel_attributes(*device_, kernel);
     l.kernel = l.attributes.kernel;
@@ -60,11 +60,11 @@ void Scheduler::launch(std::string stage, int level, cl_kernel kernel, std::arra
     launches_.push_back(std::move(l));
 }
 
-void Scheduler::launch(std::string stage, int level, cl_kernel kernel, std::size_t global,
+void Scheduler::launch(Stage stage, int level, cl_kernel kernel, std::size_t global,
                        std::optional<std::size_t> local) {
     std::optional<std::array<std::size_t, 3>> local3;
     if (local) local3 = std::array<std::size_t, 3>{*local, 1, 1};
-    launch(std::move(stage), level, kernel, {global, 1, 1}, local3, 1);
+    launch(stage, level, kernel, {global, 1, 1}, local3, 1);
 }
 
 const std::vector<Launch>& Scheduler::resolve() {
@@ -79,16 +79,16 @@ const std::vector<Launch>& Scheduler::resolve() {
     return launches_;
 }
 
-double Scheduler::stage_ms(const std::string& stage, int level) const {
+double Scheduler::stage_ms(Stage stage, int level, std::size_t first) const {
     double ms = 0.0;
-    for (const Launch& l : launches_)
-        if (l.stage == stage && (level < 0 || l.level == level)) ms += l.device_ms;
+    for (std::size_t i = first; i < launches_.size(); ++i)
+        if (launches_[i].stage == stage && (level < 0 || launches_[i].level == level)) ms += launches_[i].device_ms;
     return ms;
 }
 
-double Scheduler::total_ms() const {
+double Scheduler::total_ms(std::size_t first) const {
     double ms = 0.0;
-    for (const Launch& l : launches_) ms += l.device_ms;
+    for (std::size_t i = first; i < launches_.size(); ++i) ms += launches_[i].device_ms;
     return ms;
 }
 

@@ -18,12 +18,13 @@
 #include "cl/device.h"
 #include "cl/handles.h"
 #include "measure/kernel_attributes.h"
+#include "measure/stage.h"
 
 namespace sdfbrick::measure {
 
 struct Launch {
-    std::string stage;  // "count", "scan", "trace", ...
-    int level = -1;     // construction level; -1 = not per level
+    Stage stage = Stage::trace;
+    int level = -1;  // construction level; -1 = not per level
     std::string kernel;
     cl_uint dims = 1;
     std::array<std::size_t, 3> global{0, 1, 1};
@@ -53,17 +54,20 @@ public:
     // the work-group size, or empty to let the driver choose. A range with a zero dimension launches
     // nothing (see ocl::enqueue) but is still recorded. Throws InputError when the work-group is larger
     // than the kernel allows on the device (CL_KERNEL_WORK_GROUP_SIZE).
-    void launch(std::string stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
+    void launch(Stage stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
                 std::optional<std::array<std::size_t, 3>> local, cl_uint dims);
-    void launch(std::string stage, int level, cl_kernel kernel, std::size_t global,
+    void launch(Stage stage, int level, cl_kernel kernel, std::size_t global,
                 std::optional<std::size_t> local = std::nullopt);
 
     // Waits for every launch and fills its times (throws ClError naming the kernel when one failed).
     // Idempotent.
     const std::vector<Launch>& resolve();
-    // Device time of the resolved launches of a stage (level -1: all levels), and of all launches.
-    double stage_ms(const std::string& stage, int level = -1) const;
-    double total_ms() const;
+    // Device time of the resolved launches of a stage (level -1: all levels), and of all launches,
+    // counting the launches from index `first` on (a builder's own share of a shared recorder).
+    double stage_ms(Stage stage, int level = -1, std::size_t first = 0) const;
+    double total_ms(std::size_t first = 0) const;
+    // Launches recorded so far (the index the next launch gets).
+    std::size_t size() const { return launches_.size(); }
     const std::vector<Launch>& launches() const { return launches_; }
 
 private:

@@ -34,12 +34,12 @@ nlohmann::json to_json(const Spread& s) {
 }
 
 std::vector<StageStats> stage_stats(const std::vector<Capture>& captures) {
-    std::vector<std::string> order;
+    std::vector<Stage> order;
     for (const Capture& c : captures)
         for (const Launch& l : c)
             if (std::find(order.begin(), order.end(), l.stage) == order.end()) order.push_back(l.stage);
     std::vector<StageStats> out;
-    for (const std::string& name : order) {
+    for (const Stage name : order) {
         std::vector<double> ms;
         std::size_t launches = 0;
         for (const Capture& c : captures) {
@@ -67,11 +67,22 @@ Spread total_stats(const std::vector<Capture>& captures) {
     return spread_of(std::move(ms));
 }
 
+Spread stages_stats(const std::vector<Capture>& captures, std::span<const Stage> stages) {
+    std::vector<double> ms;
+    for (const Capture& c : captures) {
+        double t = 0.0;
+        for (const Launch& l : c)
+            if (std::find(stages.begin(), stages.end(), l.stage) != stages.end()) t += l.device_ms;
+        ms.push_back(t);
+    }
+    return spread_of(std::move(ms));
+}
+
 nlohmann::json to_json(const std::vector<StageStats>& stages) {
     nlohmann::json out = nlohmann::json::array();
     for (const StageStats& s : stages) {
         nlohmann::json j = to_json(s.ms);
-        j["name"] = s.name;
+        j["name"] = to_string(s.stage);
         j["device_ms"] = s.ms.median;
         j["launches"] = s.launches;
         out.push_back(std::move(j));
@@ -84,14 +95,14 @@ std::string stage_table_text(const std::vector<StageStats>& stages, bool identic
     std::string s = fmt::format("  {} captures (outputs identical: {})\n  {:<14} {:>8} {:>10} {:>10} {:>10} {:>7}\n", n,
                                 identical ? "yes" : "NO", "stage", "launches", "median ms", "min ms", "max ms", "cv");
     for (const StageStats& st : stages)
-        s += fmt::format("  {:<14} {:>8} {:>10.4f} {:>10.4f} {:>10.4f} {:>6.2f}%\n", st.name, st.launches, st.ms.median,
+        s += fmt::format("  {:<14} {:>8} {:>10.4f} {:>10.4f} {:>10.4f} {:>6.2f}%\n", to_string(st.stage), st.launches, st.ms.median,
                          st.ms.min, st.ms.max, 100.0 * st.ms.cv);
     return s;
 }
 
-double stage_median(const std::vector<StageStats>& stages, const std::string& name) {
+double stage_median(const std::vector<StageStats>& stages, Stage stage) {
     for (const StageStats& s : stages)
-        if (s.name == name) return s.ms.median;
+        if (s.stage == stage) return s.ms.median;
     return 0.0;
 }
 
@@ -106,7 +117,8 @@ std::vector<KernelRow> kernel_rows(const std::vector<Capture>& captures, const o
                 r.min_ms = l.device_ms;
                 r.largest = l;
             }
-            if (r.stages.find(l.stage) == std::string::npos) r.stages += (r.stages.empty() ? "" : ",") + l.stage;
+            const std::string_view stage = to_string(l.stage);
+            if (r.stages.find(stage) == std::string::npos) r.stages += std::string(r.stages.empty() ? "" : ",") + std::string(stage);
             ++r.launches;
             r.total_ms += l.device_ms;
             r.min_ms = std::min(r.min_ms, l.device_ms);

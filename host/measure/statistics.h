@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ nlohmann::json to_json(const Spread& s);
 using Capture = std::vector<Launch>;
 
 struct StageStats {
-    std::string name;
+    Stage stage = Stage::trace;
     std::size_t launches = 0;  // per capture (the last one)
     Spread ms;                 // the stage's device time per capture
 };
@@ -36,12 +37,14 @@ struct StageStats {
 std::vector<StageStats> stage_stats(const std::vector<Capture>& captures);
 // Total device time per capture.
 Spread total_stats(const std::vector<Capture>& captures);
+// Device time of the given stages per capture.
+Spread stages_stats(const std::vector<Capture>& captures, std::span<const Stage> stages);
 // [{"name", "device_ms" (the median), "launches", "median_ms", "min_ms", "max_ms", "cv", "samples_ms"}]
 nlohmann::json to_json(const std::vector<StageStats>& stages);
 // One line per stage: median, min, max, cv over the captures, and whether the outputs were identical.
 std::string stage_table_text(const std::vector<StageStats>& stages, bool identical);
 // The median of a stage's time; 0 when the stage is absent.
-double stage_median(const std::vector<StageStats>& stages, const std::string& name);
+double stage_median(const std::vector<StageStats>& stages, Stage stage);
 
 struct KernelRow {
     std::string kernel;

@@ -250,7 +250,7 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
     const std::array<std::size_t, 3> global{(static_cast<std::size_t>(width) + kTile - 1) / kTile * kTile,
                                             (static_cast<std::size_t>(height) + kTile - 1) / kTile * kTile, 1};
     measure::Scheduler scheduler(device_);
-    scheduler.launch("reference", -1, kernel_.get(), global, std::array<std::size_t, 3>{kTile, kTile, 1}, 2);
+    scheduler.launch(measure::Stage::reference, -1, kernel_.get(), global, std::array<std::size_t, 3>{kTile, kTile, 1}, 2);
     const measure::Launch& launch = scheduler.resolve().front();
     result.device_ms = launch.device_ms;
     result.queue_ms = launch.queue_ms;

@@ -41,7 +41,7 @@ FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::sp
     const std::size_t local = 64;
     const std::size_t global = (n + local - 1) / local * local;
     measure::Scheduler scheduler(device_);
-    scheduler.launch("eval", -1, kernel_.get(), global, local);
+    scheduler.launch(measure::Stage::eval, -1, kernel_.get(), global, local);
     out_buf.read_into(result.values);
     const measure::Launch& launch = scheduler.resolve().front();
     result.device_ms = launch.device_ms;

@@ -28,17 +28,23 @@ std::optional<NormalMethod> normals_from_string(std::string_view s) {
     return std::nullopt;
 }
 
-SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
-                               const construct::BuildSettings& settings) {
-    ocl::Device& device = bricks.device();
+SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, const Scene& scene,
+                               const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
     SceneBricks out;
     out.settings = settings;
     for (const Geometry& g : scene.geometries) {
-        out.builds.push_back(bricks.build(g, settings));
+        out.builds.push_back(bricks.build(g, settings, scheduler));
         out.bricks += out.builds.back().leaf_count;
         out.build_ms += out.builds.back().device_ms;
     }
-    out.bvh = bvh.build(scene, out.builds);
+    return out;
+}
+
+SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
+                               const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
+    ocl::Device& device = bricks.device();
+    SceneBricks out = build_scene_bricks(bricks, scene, settings, scheduler);
+    out.bvh = bvh.build(scene, out.builds, scheduler);
 
     const std::size_t sample_count = static_cast<std::size_t>(settings.samples) * settings.samples * settings.samples;
     const std::size_t brick_bytes = sample_count * construct::sample_bytes(settings.format);
@@ -117,7 +123,7 @@ BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, co
 }
 
 TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                                const TraceSettings& settings) {
+                                const TraceSettings& settings, measure::Scheduler& scheduler) {
     validate_image_size(settings.width, settings.height);
     if (camera.width != static_cast<sdf_u32>(settings.width) || camera.height != static_cast<sdf_u32>(settings.height))
         throw std::invalid_argument("BrickTracer::render: the camera's size differs from the settings'");
@@ -132,10 +138,10 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
     ocl::Buffer<cl_uint2> aux(device_, pixels);
     const std::array<std::size_t, 3> global{(settings.width + gx - 1) / gx * gx, (settings.height + gy - 1) / gy * gy, 1};
     const std::array<std::size_t, 3> local{gx, gy, 1};
-    measure::Scheduler scheduler(device_);
+    const std::size_t first_launch = scheduler.size();
     ocl::set_args(k.trace.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
                   bricks.pool(), hit, aux);
-    scheduler.launch("trace", -1, k.trace.get(), global, local, 2);
+    scheduler.launch(measure::Stage::trace, -1, k.trace.get(), global, local, 2);
     std::optional<ocl::Buffer<cl_float4>> colour;
     if (settings.shade) {
         const SdfShading shading = make_shading(scene, bricks, settings);
@@ -143,12 +149,12 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         colour.emplace(device_, pixels);
         ocl::set_args(k.shade.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
                       *bricks.bvh.nodes, bricks.pool(), sh, hit, *colour);
-        scheduler.launch("shade", -1, k.shade.get(), global, local, 2);
+        scheduler.launch(measure::Stage::shade, -1, k.shade.get(), global, local, 2);
     }
     TraceResult out;
-    out.launches = scheduler.resolve();
-    out.trace_ms = scheduler.stage_ms("trace");
-    out.shade_ms = scheduler.stage_ms("shade");
+    scheduler.resolve();
+    out.trace_ms = scheduler.stage_ms(measure::Stage::trace, -1, first_launch);
+    out.shade_ms = scheduler.stage_ms(measure::Stage::shade, -1, first_launch);
     out.buffer = RenderBuffer(settings.width, settings.height);
     hit.read_into(out.buffer.hit);
     aux.read_into(out.buffer.aux);

@@ -45,9 +45,14 @@ struct SceneBricks {
     const ocl::Buffer<std::uint8_t>& pool() const { return combined_pool ? *combined_pool : *builds.front().pool; }
 };
 
-// Builds the bricks of every geometry of scene (already at its time), then the BVH.
+// Builds the bricks of every geometry of scene (already at its time): construction only (no BVH, no
+// pools for tracing).
+SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, const Scene& scene,
+                               const construct::BuildSettings& settings, measure::Scheduler& scheduler);
+// Builds the bricks of every geometry of scene (already at its time), then the BVH and the arrays the
+// tracer reads.
 SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
-                               const construct::BuildSettings& settings);
+                               const construct::BuildSettings& settings, measure::Scheduler& scheduler);
 
 struct TraceSettings {
     int width = 1280;
@@ -66,7 +71,6 @@ struct TraceResult {
     Image colour;            // shaded mode only
     double trace_ms = 0.0;   // device time of the primary rays
     double shade_ms = 0.0;   // device time of shading and its secondary rays
-    std::vector<measure::Launch> launches;
 };
 
 // Light, penumbra and occlusion radius for the shaded mode, from the scene's light and size.
@@ -77,8 +81,9 @@ public:
     explicit BrickTracer(ocl::Device& device);
     ~BrickTracer();
     // Traces bricks (built on this tracer's device) with camera; readback of the pixel buffers included.
+    // Every launch is recorded in scheduler (the run's launch recorder).
     TraceResult render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                       const TraceSettings& settings);
+                       const TraceSettings& settings, measure::Scheduler& scheduler);
 
 private:
     struct Kernels;

@@ -14,7 +14,7 @@
 #include "measure/peaks.h"
 #include "measure/statistics.h"
 #include "reference/accuracy.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/run.h"
 #include "reference/device_tracer.h"
 #include "scene/scene_json.h"
 #include "tune/apply.h"
@@ -23,7 +23,6 @@ namespace sdfbrick::sweep {
 
 namespace {
 
-const char* const kBuildStages[] = {"edit_bounds", "dependencies", "count", "scan", "subdivide", "cull", "evaluate", "aabb"};
 
 std::string cell(const nlohmann::json& v) {
     if (v.is_null()) return "";
@@ -42,7 +41,7 @@ nlohmann::json opt(const std::optional<T>& v) {
 // What one device needs across points: its pipeline (compiled programs), peaks and references.
 struct DeviceState {
     ocl::Device* device = nullptr;
-    std::unique_ptr<pipeline::Pipeline> pipeline;
+    std::unique_ptr<pipeline::Runner> runner;
     std::optional<measure::DevicePeaks> peaks;
     std::map<std::string, reference::ReferenceResult> references;  // per scene file
 };
@@ -67,8 +66,8 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
                        settings, &trace);
     settings.validate(device.info());
 
-    if (!state.pipeline) state.pipeline = std::make_unique<pipeline::Pipeline>(device);
-    const pipeline::PipelineRun run = state.pipeline->run(scene, settings, trace, spec.warmup, spec.repeat);
+    if (!state.runner) state.runner = std::make_unique<pipeline::Runner>(device);
+    const pipeline::Run run = state.runner->run(scene, {pipeline::Work::trace, settings, trace, spec.warmup, spec.repeat});
     const render::SceneBricks& bricks = run.bricks;
 
     Row r;
@@ -99,7 +98,8 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
     r["trace_max_ms"] = run.trace_ms.max;
     r["trace_cv"] = run.trace_ms.cv;
     r["bvh_ms"] = run.bvh_ms.median;
-    for (const char* stage : kBuildStages) r[fmt::format("stage_{}_ms", stage)] = measure::stage_median(run.stages, stage);
+    for (const measure::Stage stage : measure::kConstructionStages)
+        r[fmt::format("stage_{}_ms", to_string(stage))] = measure::stage_median(run.stages, stage);
 
     const std::vector<measure::KernelRow> kernels = measure::kernel_rows(run.captures, device.info());
     const auto eval = std::find_if(kernels.begin(), kernels.end(), [](const measure::KernelRow& k) { return k.kernel == "brick_evaluate"; });
@@ -113,7 +113,7 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
     }
     const double build_s = run.build_ms.median * 1e-3;
     r["evaluations_per_second"] = build_s > 0 ? static_cast<double>(evaluations) / build_s : 0.0;
-    const double eval_s = measure::stage_median(run.stages, "evaluate") * 1e-3;
+    const double eval_s = measure::stage_median(run.stages, measure::Stage::evaluate) * 1e-3;
     if (!state.peaks) state.peaks = measure::device_peaks(device);
     if (eval_s > 0) {
         const double gbps = static_cast<double>(pool_bytes) / eval_s * 1e-9;
@@ -177,7 +177,7 @@ const std::vector<std::string>& csv_columns() {
                                       "identical", "bricks", "levels", "edit_evaluations", "memory_bytes",
                                       "build_ms", "build_min_ms", "build_max_ms", "build_cv", "trace_ms",
                                       "trace_min_ms", "trace_max_ms", "trace_cv", "bvh_ms"};
-        for (const char* stage : kBuildStages) c.push_back(fmt::format("stage_{}_ms", stage));
+        for (const measure::Stage stage : measure::kConstructionStages) c.push_back(fmt::format("stage_{}_ms", to_string(stage)));
         for (const char* k : {"evaluate_local_bytes", "evaluate_registers", "evaluate_groups_per_cu",
                               "evaluate_resident_groups", "evaluate_occupancy", "evaluate_waves",
                               "evaluations_per_second", "write_gbps", "bandwidth_fraction", "peak_bandwidth_gbps",

@@ -105,7 +105,7 @@ double stored_value(const std::vector<std::uint8_t>& pool, BrickFormat f, std::s
 
 // Leaves cover every reference surface cell; stored samples match the reference within one step.
 void check_against_reference(const Geometry& g, const BuildSettings& s) {
-    const GeometryBuild b = builder().build(g, s);
+    const GeometryBuild b = builder().build(g, s, test::recorder());
     ASSERT_GT(b.leaf_count, 0u);
     const construct::Domain domain = construct::make_domain(bounds(g), s.leaf_size, s.branching);
     ASSERT_EQ(b.levels, domain.levels);
@@ -161,7 +161,7 @@ TEST(ConstructBuild, SpheresMatchReference) { check_against_reference(shipped_ge
 TEST(ConstructBuild, DropsCornerMatchesReference) { check_against_reference(drops_subset(48), settings(0.125)); }
 
 std::string digest(const Geometry& g, const BuildSettings& s) {
-    const GeometryBuild b = builder().build(g, s);
+    const GeometryBuild b = builder().build(g, s, test::recorder());
     return construct::output_digest(b, s);
 }
 
@@ -171,8 +171,8 @@ TEST(ConstructBuild, CullingOnAndOffAreBitIdentical) {
             BuildSettings on = settings(0.125, f), off = on, deps = on;
             off.cull = false;
             deps.dependencies = true;
-            const GeometryBuild culled = builder().build(g, on);
-            const GeometryBuild full = builder().build(g, off);
+            const GeometryBuild culled = builder().build(g, on, test::recorder());
+            const GeometryBuild full = builder().build(g, off, test::recorder());
             EXPECT_EQ(construct::output_digest(culled, on), construct::output_digest(full, off)) << g.name;
             EXPECT_EQ(digest(g, deps), construct::output_digest(full, off)) << g.name << " with dependencies";
             EXPECT_EQ(culled.leaf_count, full.leaf_count);
@@ -186,7 +186,7 @@ TEST(ConstructBuild, CullingOnAndOffAreBitIdentical) {
 TEST(ConstructBuild, RepeatedRunsAreBitIdentical) {
     const Geometry g = drops_subset(64);
     const BuildSettings s = settings(0.125);
-    const GeometryBuild a = builder().build(g, s), b = builder().build(g, s);
+    const GeometryBuild a = builder().build(g, s, test::recorder()), b = builder().build(g, s, test::recorder());
     EXPECT_EQ(construct::output_digest(a, s), construct::output_digest(b, s));
     EXPECT_EQ(construct::list_digest(a), construct::list_digest(b));
 }
@@ -198,7 +198,7 @@ TEST(ConstructBuild, BranchingTwoAndFourGiveTheSameLeaves) {
     four.levels = 4;  // 0.125 * 64 = 8 units: covers the geometry from its origin
     two.branching = 2;
     two.levels = 7;
-    const GeometryBuild b4 = builder().build(g, four), b2 = builder().build(g, two);
+    const GeometryBuild b4 = builder().build(g, four, test::recorder()), b2 = builder().build(g, two, test::recorder());
     EXPECT_GT(b4.leaf_count, 100u);
     EXPECT_EQ(b4.leaf_count, b2.leaf_count);
     EXPECT_EQ(construct::output_digest(b4, four), construct::output_digest(b2, two));
@@ -216,14 +216,18 @@ TEST(ConstructBuild, ChunkAndGroupSizesDoNotChangeTheOutput) {
 }
 
 TEST(ConstructBuild, LevelsAndWorkAreReported) {
-    const GeometryBuild b = builder().build(drops_subset(64), settings(0.125));
+    measure::Scheduler scheduler(test::device());
+    const GeometryBuild b = builder().build(drops_subset(64), settings(0.125), scheduler);
     ASSERT_EQ(b.level_reports.size(), static_cast<std::size_t>(b.levels));
     EXPECT_EQ(b.level_reports.back().bricks, b.leaf_count);
     EXPECT_GT(b.edit_evaluations, b.leaf_count * 512);
     for (const char* r : {"brick pool", "brick records", "aabbs", "edit lists"}) EXPECT_GT(b.memory.at(r), 0u) << r;
     EXPECT_EQ(b.memory.at("brick pool"), b.leaf_count * 512);
+    EXPECT_EQ(b.first_launch, 0u);
+    EXPECT_EQ(b.end_launch, scheduler.size());
     for (const char* stage : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"})
-        EXPECT_TRUE(std::any_of(b.launches.begin(), b.launches.end(), [&](const measure::Launch& l) { return l.stage == stage; }))
+        EXPECT_TRUE(std::any_of(scheduler.launches().begin(), scheduler.launches().end(),
+                                [&](const measure::Launch& l) { return to_string(l.stage) == stage; }))
             << stage;
     // AABBs are the leaves' boxes.
     const std::vector<SdfBounds> boxes = b.aabbs->read();
@@ -238,10 +242,10 @@ TEST(ConstructBuild, LevelsAndWorkAreReported) {
 TEST(ConstructBuild, EmptyGeometryGivesAnEmptyValidResult) {
     Geometry g;
     g.name = "empty";
-    GeometryBuild b = builder().build(g, settings(0.125));
+    GeometryBuild b = builder().build(g, settings(0.125), test::recorder());
     EXPECT_EQ(b.leaf_count, 0u);
     g.edits = {make_edit(Primitive::Sphere, {0.5, 0, 0, 0}, {0, 0, 0}, Op::Subtract)};  // removes from nothing
-    b = builder().build(g, settings(0.125));
+    b = builder().build(g, settings(0.125), test::recorder());
     EXPECT_EQ(b.leaf_count, 0u);
     EXPECT_EQ(b.pool->size(), 0u);
 }
@@ -250,7 +254,7 @@ TEST(ConstructBuild, DegenerateAndTinyGeometry) {
     Geometry g;
     g.name = "point";
     g.edits = {make_edit(Primitive::Sphere, {1e-6, 0, 0, 0}, {0.3, 0.3, 0.3})};
-    const GeometryBuild b = builder().build(g, settings(0.125));
+    const GeometryBuild b = builder().build(g, settings(0.125), test::recorder());
     EXPECT_GE(b.leaf_count, 1u);
     EXPECT_LE(b.leaf_count, 8u);
 }
@@ -258,21 +262,21 @@ TEST(ConstructBuild, DegenerateAndTinyGeometry) {
 TEST(ConstructBuild, RefusesWhatCannotBeBuilt) {
     const Geometry g = mixed_geometry();
     BuildSettings s = settings(1e-7);  // 2^30 leaf cells per axis and more
-    EXPECT_THROW(builder().build(g, s), InputError);
+    EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
     s = settings(0.125);
     s.levels = 2;  // too few to cover the geometry
-    EXPECT_THROW(builder().build(g, s), InputError);
+    EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
     s = settings(0.125);
     s.chunk = 8;
-    EXPECT_THROW(builder().build(g, s), InputError);
+    EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
     s = settings(0.125);
     s.samples = 9;
-    EXPECT_THROW(builder().build(g, s), InputError);
+    EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
     s = settings(0.125);
     s.eval_group = 96;
-    EXPECT_THROW(builder().build(g, s), InputError);
+    EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
     s = settings(std::nan(""));
-    EXPECT_THROW(builder().build(g, s), InputError);
+    EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
 }
 
 }  // namespace

@@ -205,10 +205,11 @@ TEST(ConstructEditBounds, ContainHostBoundsEveryPrimitive) {
     }
     scheduler.resolve();
     ASSERT_FALSE(scheduler.launches().empty());
-    EXPECT_EQ(scheduler.launches().front().stage, "edit_bounds");
+    EXPECT_EQ(scheduler.launches().front().stage, measure::Stage::edit_bounds);
     EXPECT_EQ(scheduler.launches().front().kernel, "edit_bounds");
     for (const auto& l : scheduler.launches()) {
-        EXPECT_TRUE(l.stage == "edit_bounds" || l.stage == "dependencies") << l.stage;
+        EXPECT_TRUE(l.stage == measure::Stage::edit_bounds || l.stage == measure::Stage::dependencies)
+            << to_string(l.stage);
         EXPECT_EQ(l.level, -1);
     }
 }
@@ -394,9 +395,9 @@ TEST(ConstructEditDeps, MaxEditsMatchBruteForceOnSample) {
                 n, d.total, d.grid_dims[0], d.grid_dims[1], d.grid_dims[2], double(d.grid_cell), d.grid_refs,
                 d.bytes(), d.scratch_bytes);
     std::printf("[deps] device ms: edit_bounds %.3f, dependencies %.3f; wall (incl. read-backs) %.3f ms\n",
-                scheduler.stage_ms("edit_bounds"), scheduler.stage_ms("dependencies"), wall_ms);
+                scheduler.stage_ms(measure::Stage::edit_bounds), scheduler.stage_ms(measure::Stage::dependencies), wall_ms);
     for (const auto& l : scheduler.launches())
-        std::printf("[deps]   %-13s %-12s global %8zu  %.3f ms\n", l.stage.c_str(), l.kernel.c_str(), static_cast<std::size_t>(l.work_items()),
+        std::printf("[deps]   %-13s %-12s global %8zu  %.3f ms\n", std::string(to_string(l.stage)).c_str(), l.kernel.c_str(), static_cast<std::size_t>(l.work_items()),
                     l.device_ms);
 
     Result r;

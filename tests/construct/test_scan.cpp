@@ -51,18 +51,18 @@ void check_scan(Scan& scan, std::size_t n, std::uint64_t seed) {
     ocl::Buffer<cl_uint> out(dev, padded.size());
     const std::vector<cl_uint> sentinel(padded.size(), 0xabcdabcdu);
     out.write(sentinel);
-    EXPECT_EQ(scan.exclusive(in, out, n, scheduler, "scan", -1), host_total(values)) << "n = " << n;
+    EXPECT_EQ(scan.exclusive(in, out, n, scheduler, measure::Stage::scan, -1), host_total(values)) << "n = " << n;
     std::vector<cl_uint> got = out.read();
     EXPECT_TRUE(std::equal(expected.begin(), expected.end(), got.begin())) << "out of place, n = " << n;
     for (std::size_t i = n; i < got.size(); ++i) EXPECT_EQ(got[i], 0xabcdabcdu) << "n = " << n << ", i = " << i;
     EXPECT_EQ(in.read(), padded) << "the input changed, n = " << n;
 
-    EXPECT_EQ(scan.exclusive(in, in, n, scheduler, "scan", -1), host_total(values)) << "in place, n = " << n;
+    EXPECT_EQ(scan.exclusive(in, in, n, scheduler, measure::Stage::scan, -1), host_total(values)) << "in place, n = " << n;
     got = in.read();
     EXPECT_TRUE(std::equal(expected.begin(), expected.end(), got.begin())) << "in place, n = " << n;
     for (std::size_t i = n; i < got.size(); ++i) EXPECT_EQ(got[i], padded[i]) << "n = " << n << ", i = " << i;
     scheduler.resolve();
-    for (const auto& l : scheduler.launches()) EXPECT_EQ(l.stage, "scan");
+    for (const auto& l : scheduler.launches()) EXPECT_EQ(l.stage, measure::Stage::scan);
 }
 
 TEST(ConstructScan, Lengths) {
@@ -96,25 +96,25 @@ TEST(ConstructScan, SumsBeyond32BitsThrow) {
         // Exactly 2^32 - 1: fits.
         const std::vector<cl_uint> v{0xfffffffeu, 1u};
         ocl::Buffer<cl_uint> b(dev, std::span<const cl_uint>(v));
-        EXPECT_EQ(scan.exclusive(b, b, v.size(), scheduler, "scan", -1), 0xffffffffu);
+        EXPECT_EQ(scan.exclusive(b, b, v.size(), scheduler, measure::Stage::scan, -1), 0xffffffffu);
     }
     {
         // Only the total exceeds 2^32 (every exclusive value fits).
         const std::vector<cl_uint> v{0xffffffffu, 1u};
         ocl::Buffer<cl_uint> b(dev, std::span<const cl_uint>(v));
-        EXPECT_THROW(scan.exclusive(b, b, v.size(), scheduler, "scan", -1), InputError);
+        EXPECT_THROW(scan.exclusive(b, b, v.size(), scheduler, measure::Stage::scan, -1), InputError);
     }
     {
         // Wraps inside one block.
         const std::vector<cl_uint> v(8, 0x40000000u);
         ocl::Buffer<cl_uint> b(dev, std::span<const cl_uint>(v));
-        EXPECT_THROW(scan.exclusive(b, b, v.size(), scheduler, "scan", -1), InputError);
+        EXPECT_THROW(scan.exclusive(b, b, v.size(), scheduler, measure::Stage::scan, -1), InputError);
     }
     {
         // Wraps only across blocks and levels (each block's sum fits).
         const std::vector<cl_uint> v(3000000, 2000u);
         ocl::Buffer<cl_uint> b(dev, std::span<const cl_uint>(v));
-        EXPECT_THROW(scan.exclusive(b, b, v.size(), scheduler, "scan", -1), InputError);
+        EXPECT_THROW(scan.exclusive(b, b, v.size(), scheduler, measure::Stage::scan, -1), InputError);
     }
     // The scan still works after an overflow.
     check_scan(scan, 5000, 41);

@@ -64,8 +64,8 @@ struct Rendered {
 };
 
 Rendered render_scene(const Scene& scene, const BuildSettings& s, const render::TraceSettings& t) {
-    Rendered r{render::build_scene_bricks(engine().bricks, engine().bvh, scene, s), {}};
-    r.buffer = engine().tracer.render(scene, r.bricks, make_camera(scene.camera, t.width, t.height), t).buffer;
+    Rendered r{render::build_scene_bricks(engine().bricks, engine().bvh, scene, s, test::recorder()), {}};
+    r.buffer = engine().tracer.render(scene, r.bricks, make_camera(scene.camera, t.width, t.height), t, test::recorder()).buffer;
     return r;
 }
 
@@ -93,7 +93,7 @@ TEST(Bvh, EveryBrickReachableAndBoxesNested) {
         const Scene scene = shipped("spheres");
         BuildSettings s = settings(0.125);
         s.branching = branching;
-        const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, s);
+        const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, s, test::recorder());
         ASSERT_EQ(b.builds.size(), 1u);
         const std::vector<SdfBvhNode> nodes = b.bvh.nodes->read();
         const std::vector<SdfBounds> boxes = b.builds[0].aabbs->read();
@@ -114,11 +114,11 @@ TEST(Bvh, EveryBrickReachableAndBoxesNested) {
 // several times, must stay valid and bit-identical (this caught a visibility race on a GPU).
 TEST(Bvh, RebuildsAreValidAndIdentical) {
     const Scene scene = shipped("drops");
-    const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, settings(0.25));
+    const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, settings(0.25), test::recorder());
     const std::vector<SdfBounds> boxes = b.builds[0].aabbs->read();
     std::string first;
     for (int i = 0; i < 8; ++i) {
-        const bvh::SceneBvh t = engine().bvh.build(scene, b.builds);
+        const bvh::SceneBvh t = engine().bvh.build(scene, b.builds, test::recorder());
         const std::vector<SdfBvhNode> nodes = t.nodes->read();
         ASSERT_EQ(bvh::check_tree(nodes, t.roots[0], boxes), "") << "rebuild " << i;
         const std::string d = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
@@ -201,7 +201,7 @@ TEST(RenderTrace, RepeatedRendersAreBitIdentical) {
     const render::TraceSettings t = trace_settings(40, 30, render::Method::sphere);
     const Rendered a = render_scene(scene, settings(0.125), t);
     const render::TraceResult b =
-        engine().tracer.render(scene, a.bricks, make_camera(scene.camera, t.width, t.height), t);
+        engine().tracer.render(scene, a.bricks, make_camera(scene.camera, t.width, t.height), t, test::recorder());
     EXPECT_EQ(digest(a.buffer), digest(b.buffer));
 }
 
@@ -292,9 +292,9 @@ TEST(RenderTrace, ShadedModeIsDeterministicAndLit) {
     t.shade = true;
     const Rendered a = render_scene(scene, settings(0.125), t);
     const render::TraceResult r1 =
-        engine().tracer.render(scene, a.bricks, make_camera(scene.camera, t.width, t.height), t);
+        engine().tracer.render(scene, a.bricks, make_camera(scene.camera, t.width, t.height), t, test::recorder());
     const render::TraceResult r2 =
-        engine().tracer.render(scene, a.bricks, make_camera(scene.camera, t.width, t.height), t);
+        engine().tracer.render(scene, a.bricks, make_camera(scene.camera, t.width, t.height), t, test::recorder());
     ASSERT_EQ(r1.colour.pixels.size(), static_cast<std::size_t>(32 * 24 * 3));
     EXPECT_EQ(r1.colour.pixels, r2.colour.pixels);
     float lo = 1.0f, hi = 0.0f;

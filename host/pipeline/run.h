@@ -1,0 +1,64 @@
+// The run loop: the one place where measured work runs. A pass is construction (every geometry of
+// the scene), optionally the BVH, optionally the trace; a run is `warmup` uncaptured passes and then
+// `repeat` captured ones. Each pass has one launch recorder (measure::Scheduler) that the brick
+// builder, the BVH builder and the tracer record into; its launches are the pass's capture. Every
+// verb, the tuner and the sweep run through a Runner (docs/design.md, "The run loop").
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bvh/bvh_builder.h"
+#include "construct/brick_builder.h"
+#include "measure/statistics.h"
+#include "render/brick_tracer.h"
+
+namespace sdfbrick::pipeline {
+
+// How far a pass goes.
+enum class Work { construct, bvh, trace };
+
+struct RunSpec {
+    Work work = Work::trace;
+    construct::BuildSettings build;
+    render::TraceSettings trace;  // with Work::trace (the image size also gives the camera)
+    int warmup = 0;
+    int repeat = 1;
+    bool brick_digests = false;  // digest every capture's bricks, pools and edit lists (reads the pools back)
+};
+
+struct Run {
+    render::SceneBricks bricks;                // the last capture's (bvh and pools for tracing from Work::bvh on)
+    std::optional<render::TraceResult> trace;  // the last capture's, with Work::trace
+    std::vector<measure::Capture> captures;
+    std::vector<measure::StageStats> stages;
+    measure::Spread total_ms;                    // all launches, per capture
+    measure::Spread build_ms, bvh_ms, trace_ms;  // construction, bvh + tlas, trace; per capture
+    std::string brick_digest, list_digest;       // with brick_digests: output_digest / list_digest over the geometries
+    std::string trace_digest;                    // of the traced hit and aux buffers ("" when not traced)
+    bool identical = true;  // every capture gave the same brick count, digests and traced image
+};
+
+class Runner {
+public:
+    explicit Runner(ocl::Device& device);
+    ocl::Device& device() { return builder_.device(); }
+
+    // Throws InputError for settings the device refuses, std::invalid_argument for warmup < 0 or
+    // repeat < 1.
+    Run run(const Scene& scene, const RunSpec& spec);
+    // The same loop over trace passes only, through bricks this runner's device built (spec.work and
+    // spec.build are not used): the trace tuner measures work-group shapes without rebuilding.
+    Run trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec);
+
+private:
+    construct::BrickBuilder builder_;
+    bvh::BvhBuilder bvh_;
+    render::BrickTracer tracer_;
+};
+
+// Digest of a render buffer (hit and aux): equal iff bit-identical.
+std::string buffer_digest(const RenderBuffer& b);
+
+}  // namespace sdfbrick::pipeline
