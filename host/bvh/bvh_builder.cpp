@@ -102,15 +102,74 @@ void BvhBuilder::build_tree(measure::Scheduler& scheduler, measure::Stage stage,
     scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
 }
 
-SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
-                           measure::Scheduler& scheduler) {
-    const auto wall_start = std::chrono::steady_clock::now();
-    if (builds.size() != scene.geometries.size())
-        throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
-    SceneBvh out;
-    const std::size_t first_launch = scheduler.size();
+// The top level's leaves: the instances of geometries with bricks, ordered by the Morton key of their
+// world box centre (ties by object index); keys are that 48-bit code then the rank: unique, ascending.
+// With nothing to trace, one instance of the geometry without bricks (index `empty_geometry`).
+struct TopLevel {
+    std::vector<SdfInstance> instances;
+    std::vector<SdfBounds> boxes;
+    std::vector<cl_ulong> keys;
+    std::vector<std::size_t> objects;  // the scene object of each instance
+};
 
-    // Bottom levels: one tree per geometry, all in one node array.
+namespace {
+
+TopLevel empty_top_level(std::size_t empty_geometry) {
+    SdfInstance none{};
+    none.world_to_geometry[0] = none.world_to_geometry[4] = none.world_to_geometry[8] = 1.0f;
+    none.scale = 1.0f;
+    none.geometry = static_cast<sdf_u32>(empty_geometry);
+    return {{none}, {SdfBounds{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}}}, {0}, {}};
+}
+
+TopLevel order_instances(const Scene& scene, const SceneBvh& bottom, std::size_t empty_geometry) {
+    const std::vector<SdfInstance> all = make_instances(scene);
+    std::vector<std::size_t> objects;
+    std::vector<SdfBounds> world;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const std::size_t g = scene.objects[i].geometry;
+        if (bottom.roots[g] == SDF_NO_NODE) continue;
+        objects.push_back(i);
+        world.push_back(world_box(scene.objects[i], bottom.geometry_boxes[g]));
+    }
+    if (objects.size() > 65536)
+        throw InputError(fmt::format("the scene has {} objects with bricks; at most 65536 are supported", objects.size()));
+    if (objects.empty()) return empty_top_level(empty_geometry);
+    Aabb all_box;
+    for (const SdfBounds& b : world) {
+        all_box.grow(glm::dvec3(b.lo[0], b.lo[1], b.lo[2]));
+        all_box.grow(glm::dvec3(b.hi[0], b.hi[1], b.hi[2]));
+    }
+    const glm::dvec3 extent = glm::max(all_box.extent(), glm::dvec3(1e-30));
+    std::vector<std::uint64_t> morton(objects.size());
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+        const glm::dvec3 c = (glm::dvec3(world[i].lo[0] + world[i].hi[0], world[i].lo[1] + world[i].hi[1],
+                                         world[i].lo[2] + world[i].hi[2]) * 0.5 - all_box.lo) / extent;
+        const glm::dvec3 q = glm::clamp(glm::floor(c * 65536.0), glm::dvec3(0.0), glm::dvec3(65535.0));
+        morton[i] = spread16(static_cast<std::uint64_t>(q.x)) | (spread16(static_cast<std::uint64_t>(q.y)) << 1) |
+                    (spread16(static_cast<std::uint64_t>(q.z)) << 2);
+    }
+    std::vector<std::size_t> order(objects.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return morton[a] != morton[b] ? morton[a] < morton[b] : a < b;
+    });
+    TopLevel top;
+    for (std::size_t r = 0; r < order.size(); ++r) {
+        const std::size_t i = order[r];
+        top.instances.push_back(all[objects[i]]);
+        top.boxes.push_back(world[i]);
+        top.keys.push_back((morton[i] << 16) | r);
+        top.objects.push_back(objects[i]);
+    }
+    return top;
+}
+
+}  // namespace
+
+std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::GeometryBuild> builds,
+                                              measure::Scheduler& scheduler, SceneBvh& out,
+                                              ocl::Buffer<SdfBounds>& root_boxes, ocl::Buffer<cl_uint>& flags) {
     std::size_t total_nodes = 0, max_leaves = 1;
     for (const construct::GeometryBuild& b : builds) {
         total_nodes += nodes_for(b.leaf_count);
@@ -120,8 +179,6 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     out.node_count = total_nodes;
     ocl::Buffer<cl_ulong> keys(device_, max_leaves);
     TreeScratch scratch(device_, max_leaves);
-    ocl::Buffer<cl_uint> flags(device_, std::vector<cl_uint>{0u});
-    ocl::Buffer<SdfBounds> root_boxes(device_, builds.size() + 1);
     std::size_t offset = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {
         const construct::GeometryBuild& b = builds[g];
@@ -140,73 +197,39 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
     const std::vector<SdfBounds> boxes = root_boxes.read();
     out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
+    return keys.bytes() + scratch.bytes();
+}
 
-    // Top level: the instances of geometries with bricks, sorted by the Morton key of their box centre.
-    std::vector<SdfInstance> all = make_instances(scene);
-    std::vector<std::size_t> objects;
-    std::vector<SdfBounds> world;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const std::size_t g = scene.objects[i].geometry;
-        if (out.roots[g] == SDF_NO_NODE) continue;
-        objects.push_back(i);
-        world.push_back(world_box(scene.objects[i], out.geometry_boxes[g]));
-    }
-    if (objects.size() > 65536)
-        throw InputError(fmt::format("the scene has {} objects with bricks; at most 65536 are supported", objects.size()));
-    std::vector<SdfInstance> instances;
-    std::vector<SdfBounds> leaf_boxes;
-    std::vector<cl_ulong> tlas_keys;
-    if (objects.empty()) {  // nothing to trace: one instance of a geometry without bricks
-        SdfInstance none{};
-        none.world_to_geometry[0] = none.world_to_geometry[4] = none.world_to_geometry[8] = 1.0f;
-        none.scale = 1.0f;
-        none.geometry = static_cast<sdf_u32>(builds.size());
-        instances.push_back(none);
-        leaf_boxes.push_back(SdfBounds{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}});
-        tlas_keys.push_back(0);
-    } else {
-        Aabb all_box;
-        for (const SdfBounds& b : world) {
-            all_box.grow(glm::dvec3(b.lo[0], b.lo[1], b.lo[2]));
-            all_box.grow(glm::dvec3(b.hi[0], b.hi[1], b.hi[2]));
-        }
-        const glm::dvec3 extent = glm::max(all_box.extent(), glm::dvec3(1e-30));
-        std::vector<std::uint64_t> morton(objects.size());
-        for (std::size_t i = 0; i < objects.size(); ++i) {
-            const glm::dvec3 c = (glm::dvec3(world[i].lo[0] + world[i].hi[0], world[i].lo[1] + world[i].hi[1],
-                                             world[i].lo[2] + world[i].hi[2]) * 0.5 - all_box.lo) / extent;
-            const glm::dvec3 q = glm::clamp(glm::floor(c * 65536.0), glm::dvec3(0.0), glm::dvec3(65535.0));
-            morton[i] = spread16(static_cast<std::uint64_t>(q.x)) | (spread16(static_cast<std::uint64_t>(q.y)) << 1) |
-                        (spread16(static_cast<std::uint64_t>(q.z)) << 2);
-        }
-        std::vector<std::size_t> order(objects.size());
-        std::iota(order.begin(), order.end(), std::size_t{0});
-        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-            return morton[a] != morton[b] ? morton[a] < morton[b] : a < b;
-        });
-        for (std::size_t r = 0; r < order.size(); ++r) {  // 48-bit Morton code, then the rank: unique, ascending
-            const std::size_t i = order[r];
-            instances.push_back(all[objects[i]]);
-            leaf_boxes.push_back(world[i]);
-            tlas_keys.push_back((morton[i] << 16) | r);
-            out.instance_objects.push_back(objects[i]);
-        }
-    }
-    out.instances = std::make_unique<ocl::Buffer<SdfInstance>>(device_, instances, CL_MEM_READ_ONLY);
-    out.tlas = std::make_unique<ocl::Buffer<SdfBvhNode>>(device_, nodes_for(instances.size()));
+void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
+                                 ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot, ocl::Buffer<cl_uint>& flags) {
+    out.instances = std::make_unique<ocl::Buffer<SdfInstance>>(device_, top.instances, CL_MEM_READ_ONLY);
+    out.instance_objects = top.objects;
+    out.tlas = std::make_unique<ocl::Buffer<SdfBvhNode>>(device_, nodes_for(top.instances.size()));
     out.tlas_node_count = out.tlas->size();
-    ocl::Buffer<cl_ulong> tlas_key_buffer(device_, tlas_keys, CL_MEM_READ_ONLY);
-    ocl::Buffer<SdfBounds> tlas_boxes(device_, leaf_boxes, CL_MEM_READ_ONLY);
-    TreeScratch tlas_scratch(device_, instances.size());
-    build_tree(scheduler, measure::Stage::tlas, tlas_key_buffer, tlas_boxes, instances.size(), *out.tlas, 0, tlas_scratch, root_boxes,
-               builds.size(), flags);
+    ocl::Buffer<cl_ulong> keys(device_, top.keys, CL_MEM_READ_ONLY);
+    ocl::Buffer<SdfBounds> boxes(device_, top.boxes, CL_MEM_READ_ONLY);
+    TreeScratch scratch(device_, top.instances.size());
+    build_tree(scheduler, measure::Stage::tlas, keys, boxes, top.instances.size(), *out.tlas, 0, scratch, root_boxes,
+               slot, flags);
     if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
+}
 
+SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
+                           measure::Scheduler& scheduler) {
+    const auto wall_start = std::chrono::steady_clock::now();
+    if (builds.size() != scene.geometries.size())
+        throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
+    SceneBvh out;
+    const std::size_t first_launch = scheduler.size();
+    ocl::Buffer<cl_uint> flags(device_, std::vector<cl_uint>{0u});
+    ocl::Buffer<SdfBounds> root_boxes(device_, builds.size() + 1);
+    const std::uint64_t scratch_bytes = build_bottom_levels(builds, scheduler, out, root_boxes, flags);
+    build_top_level(order_instances(scene, out, builds.size()), scheduler, out, root_boxes, builds.size(), flags);
     scheduler.resolve();
     out.device_ms = scheduler.total_ms(first_launch);
     out.memory["bvh nodes"] = out.nodes->bytes();
     out.memory["tlas nodes"] = out.tlas->bytes() + out.instances->bytes();
-    out.memory["bvh scratch"] = keys.bytes() + scratch.bytes();
+    out.memory["bvh scratch"] = scratch_bytes;
     out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
     return out;
 }

@@ -35,6 +35,7 @@ struct SceneBvh {
 };
 
 struct TreeScratch;
+struct TopLevel;
 
 class BvhBuilder {
 public:
@@ -50,6 +51,11 @@ public:
 
 private:
     struct Programs;
+    // Every geometry's tree into out.nodes (roots, geometry_boxes); returns the scratch bytes used.
+    std::uint64_t build_bottom_levels(std::span<const construct::GeometryBuild> builds, measure::Scheduler& scheduler,
+                                      SceneBvh& out, ocl::Buffer<SdfBounds>& root_boxes, ocl::Buffer<cl_uint>& flags);
+    void build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
+                         ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot, ocl::Buffer<cl_uint>& flags);
     void build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
                     const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                     std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,

@@ -171,7 +171,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
             }
         }
         if (want_trace) {
-            const pipeline::Run built = runner.run(scene, {pipeline::Work::bvh, settings});
+            const pipeline::Run built = runner.run(scene, {pipeline::Work::bvh, settings, {}, 0, 1, false});
             tune::Space space;
             space.dims = {{"group_x", powers_of_two(4, 64)}, {"group_y", powers_of_two(1, 32)}};
             const auto cost = [&](const tune::Config& c) {

@@ -19,26 +19,6 @@
 
 namespace sdfbrick::construct {
 
-std::string_view to_string(BrickFormat f) {
-    switch (f) {
-        case BrickFormat::int8: return "int8";
-        case BrickFormat::int16: return "int16";
-        case BrickFormat::float32: return "float";
-    }
-    return "?";
-}
-
-std::optional<BrickFormat> format_from_string(std::string_view s) {
-    if (s == "int8") return BrickFormat::int8;
-    if (s == "int16") return BrickFormat::int16;
-    if (s == "float" || s == "float32") return BrickFormat::float32;
-    return std::nullopt;
-}
-
-std::size_t sample_bytes(BrickFormat f) {
-    return f == BrickFormat::int8 ? 1 : f == BrickFormat::int16 ? 2 : 4;
-}
-
 void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (!(leaf_size > 0.0) || !std::isfinite(leaf_size))
         throw InputError(fmt::format("--brick-size must be a positive number, got {}", leaf_size));
@@ -113,6 +93,289 @@ float float_up(double x) {
 
 }  // namespace
 
+// The thresholds, saturation and margins of one geometry's build (docs/construction.md).
+struct BuildPlan {
+    Domain domain;
+    cl_uint log2b = 2;          // log2 of the branching factor
+    std::size_t per_parent = 64;  // children per parent: B^3
+    double magnitude = 0.0;     // largest |coordinate| of the domain
+    double voxel = 0.0;
+    float band = 0.0f, clamp_c = 0.0f;
+
+    // The keep threshold of a cell of `level`: its half diagonal with margins for float rounding.
+    float threshold(int level) const {
+        return float_up(domain.half_diagonal(level) * (1.0 + 1.0 / 1024.0) + magnitude * std::ldexp(1.0, -16));
+    }
+    // The cull test's radius at `level`: a child's cell plus the apron samples around it.
+    float cull_radius(int level, int apron) const {
+        return float_up(std::sqrt(3.0) * (0.5 * domain.cell_size(level) + (apron - 0.5) * voxel) * (1.0 + 1e-6));
+    }
+};
+
+namespace {
+
+// The domain (levels as settings ask), then the thresholds and C. Throws InputError for levels that
+// cannot cover the geometry or exceed 2^30 leaf bricks per axis.
+BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s) {
+    BuildPlan p;
+    p.domain = make_domain(box, s.leaf_size, s.branching);
+    if (s.levels > 0) {
+        if (s.levels < p.domain.levels)
+            throw InputError(fmt::format("--levels {} cannot cover geometry \"{}\" at brick size {}: it needs at least {}",
+                                         s.levels, g.name, s.leaf_size, p.domain.levels));
+        const int bits_per_level = s.branching == 4 ? 2 : 1;
+        if ((s.levels - 1) * bits_per_level > 30)
+            throw InputError(fmt::format("--levels {} with branching {} exceeds 2^30 leaf bricks per axis", s.levels,
+                                         s.branching));
+        p.domain.levels = s.levels;
+    }
+    p.log2b = s.branching == 4 ? 2 : 1;
+    p.per_parent = std::size_t{1} << (3 * p.log2b);
+    const glm::dvec3 lo = p.domain.origin, hi = p.domain.origin + p.domain.side();
+    p.magnitude = std::max({glm::abs(lo).x, glm::abs(lo).y, glm::abs(lo).z, std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+    p.voxel = s.voxel();
+    p.band = static_cast<float>(s.band_voxels * p.voxel);
+    p.clamp_c = float_up(std::max<double>(p.band, p.threshold(p.domain.levels - 1)) * (1.0 + 1.0 / 256.0) +
+                         s.guard * largest_blend(g));
+    return p;
+}
+
+}  // namespace
+
+// One build() call: the geometry's edits and lists on the device, the current level's parents, the
+// scratch buffers reused across levels, and the steps of the build.
+class BrickBuilder::Job {
+public:
+    Job(BrickBuilder& b, const Geometry& g, const BuildSettings& s, const BuildPlan& plan, measure::Scheduler& scheduler,
+        GeometryBuild& out)
+        : b_(b), d_(b.device_), g_(g), s_(s), plan_(plan), scheduler_(scheduler), out_(out), edits_host_(to_device(g)),
+          edits_(d_, edits_host_, CL_MEM_READ_ONLY), origin_(plan.domain.origin) {}
+
+    // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
+    void start() {
+        std::vector<cl_uint> all(edits_host_.size());
+        std::iota(all.begin(), all.end(), 0u);
+        pseudo_.level = 0xffffffffu;
+        pseudo_.edit_offset = 0;
+        pseudo_.edit_count = static_cast<sdf_u32>(all.size());
+        parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(d_, std::span<const SdfBrick>(&pseudo_, 1));
+        parent_lists_ = std::make_unique<ocl::Buffer<cl_uint>>(d_, std::span<const cl_uint>(all));
+        list_bytes_ = parent_lists_->bytes();
+        if (s_.cull && s_.dependencies) {
+            if (!b_.programs_->dependencies)
+                b_.programs_->dependencies = std::make_unique<DependencyBuilder>(d_, b_.scan_);
+            deps_ = b_.programs_->dependencies->compute(edits_, edits_host_.size(), scheduler_);
+            out_.dependency_entries = deps_->total;
+            out_.memory["dependency lists"] = deps_->bytes();
+        }
+    }
+
+    // Levels 0 .. levels-1 top-down; stops early when a level keeps nothing. Returns whether the last
+    // level was reached with bricks (then the parents are the leaves).
+    bool run_levels() {
+        for (int level = 0; level < plan_.domain.levels; ++level) {
+            const std::uint64_t children = count_and_scan(level);
+            subdivide(level, children);
+            cull(level, children);
+            scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, counts_.bytes() + offsets_.bytes() + words_.bytes() +
+                                                                         bits_.bytes());
+            parent_count_ = children;
+            if (children == 0) break;
+        }
+        const bool complete =
+            level_bricks_.size() + 1 == static_cast<std::size_t>(plan_.domain.levels) && parent_count_ > 0;
+        level_bricks_.push_back(std::move(parents_));
+        return complete;
+    }
+
+    void evaluate_leaves(std::uint64_t leaf_count);
+    void report(std::uint64_t leaf_count);
+
+    std::size_t parent_count() const { return parent_count_; }
+    std::unique_ptr<ocl::Buffer<SdfBrick>> take_leaves() { return std::move(level_bricks_.back()); }
+    std::unique_ptr<ocl::Buffer<cl_uint>> take_lists() { return std::move(parent_lists_); }
+
+private:
+    std::uint64_t count_and_scan(int level);
+    void subdivide(int level, std::uint64_t children);
+    void cull(int level, std::uint64_t children);
+    void cull_lists(int level, std::uint64_t children, float cell);
+    cl_uint level_log2b(int level) const { return level == 0 ? 0u : plan_.log2b; }
+    float cell(int level) const { return static_cast<float>(plan_.domain.cell_size(level)); }
+    std::size_t chunk_bytes() const { return static_cast<std::size_t>(s_.chunk) * sizeof(SdfEdit); }
+
+    BrickBuilder& b_;
+    ocl::Device& d_;
+    const Geometry& g_;
+    const BuildSettings& s_;
+    const BuildPlan& plan_;
+    measure::Scheduler& scheduler_;
+    GeometryBuild& out_;
+    std::vector<SdfEdit> edits_host_;
+    ocl::Buffer<SdfEdit> edits_;
+    glm::vec3 origin_;
+    std::optional<EditDependencies> deps_;
+    ocl::Buffer<cl_uint> empty_uints_{d_, 0};
+    SdfBrick pseudo_{};  // level -1: one parent whose single child (branching 1) is the root
+    std::unique_ptr<ocl::Buffer<SdfBrick>> parents_, bricks_;
+    std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
+    std::size_t parent_count_ = 1;
+    std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
+    std::vector<std::uint64_t> list_entries_;                            // every level's list entries
+    ocl::Buffer<cl_uint> counts_{d_, 0}, offsets_{d_, 0}, words_{d_, 0}, bits_{d_, 0};
+    std::uint64_t brick_bytes_ = 0, list_bytes_ = 0, scratch_bytes_ = 0;
+};
+
+std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
+    const cl_uint lb = level_log2b(level);
+    const std::size_t group = std::size_t{1} << (3 * lb);
+    if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(d_, parent_count_, "the child counts");
+    if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(d_, parent_count_, "the child offsets");
+    ocl::set_args(b_.programs_->count_k.get(), edits_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
+                  cell(level), plan_.threshold(level), plan_.clamp_c, counts_, ocl::LocalMemory{chunk_bytes()},
+                  static_cast<cl_uint>(s_.chunk), ocl::LocalMemory{group * sizeof(cl_uint)});
+    scheduler_.launch(measure::Stage::count, level, b_.programs_->count_k.get(), parent_count_ << (3 * lb), group);
+    const std::uint64_t children =
+        b_.scan_.exclusive(counts_, offsets_, parent_count_, scheduler_, measure::Stage::scan, level);
+    // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count
+    // grows about B^2 per level, so project the leaves from this level's count (generously).
+    const int remaining = plan_.domain.levels - 1 - level;
+    const double projected = static_cast<double>(children) * std::pow(double(s_.branching), 2.0 * remaining);
+    const double pool_projected = projected * double(s_.layout().brick_bytes());
+    if (pool_projected > 4.0 * static_cast<double>(d_.info().max_alloc_bytes))
+        throw InputError(fmt::format(
+            "brick size {} is too small for geometry \"{}\" on {}: level {} already has {} bricks, which "
+            "projects to about {:.3g} leaf bricks and a brick pool of {:.3g} bytes; the device allocates at most "
+            "{} bytes at once: use a larger --brick-size",
+            s_.leaf_size, g_.name, d_.info().name, level, children, projected, pool_projected,
+            d_.info().max_alloc_bytes));
+    return children;
+}
+
+void BrickBuilder::Job::subdivide(int level, std::uint64_t children) {
+    bricks_ = std::make_unique<ocl::Buffer<SdfBrick>>(
+        allocate<SdfBrick>(d_, children, fmt::format("level {} ({} bricks)", level, children)));
+    brick_bytes_ += bricks_->bytes();
+    if (children > 0) {
+        const cl_uint lb = level_log2b(level);
+        ocl::set_args(b_.programs_->subdivide_k.get(), *parents_, static_cast<cl_uint>(parent_count_), lb, offsets_,
+                      *bricks_);
+        const std::size_t global = round_up(parent_count_ << (3 * lb), kGroup1d);
+        scheduler_.launch(measure::Stage::subdivide, level, b_.programs_->subdivide_k.get(), global, kGroup1d);
+    }
+    if (level > 0) level_bricks_.push_back(std::move(parents_));  // the parent level's masks are final now
+    parents_ = std::move(bricks_);
+}
+
+// Each child's edit list from its parent's; without culling every brick keeps the whole list.
+void BrickBuilder::Job::cull(int level, std::uint64_t children) {
+    if (s_.cull && children > 0) {
+        cull_lists(level, children, cell(level));
+        return;
+    }
+    list_entries_.push_back(children * edits_host_.size());
+}
+
+void BrickBuilder::Job::cull_lists(int level, std::uint64_t children, float cell) {
+    const auto& k = *b_.programs_;
+    const ocl::Buffer<SdfBrick>& bricks = *parents_;  // this level's bricks (subdivide moved them there)
+    const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
+    const std::size_t global = round_up(children, kGroup1d);
+    const auto n = static_cast<cl_uint>(children);
+    if (words_.size() < children) words_ = allocate<cl_uint>(d_, children, "the cull word counts");
+    if (counts_.size() < children) counts_ = allocate<cl_uint>(d_, children, "the cull counts");
+    ocl::set_args(k.words_k.get(), bricks, n, words_);
+    scheduler_.launch(measure::Stage::cull, level, k.words_k.get(), global, kGroup1d);
+    const std::uint64_t total_words = b_.scan_.exclusive(words_, words_, children, scheduler_, measure::Stage::cull, level);
+    if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
+    if (total_words > 0) {
+        ocl::set_args(k.mark_k.get(), edits_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
+                      origin_.y, origin_.z, cell, plan_.cull_radius(level, s_.layout().apron()), plan_.clamp_c,
+                      static_cast<float>(plan_.magnitude), words_, bits_);
+        scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
+    }
+    const ocl::Buffer<cl_uint>& dep_offsets = deps_ ? deps_->offsets : empty_uints_;
+    const ocl::Buffer<cl_uint>& dep_indices = deps_ ? deps_->indices : empty_uints_;
+    ocl::set_args(k.cull_count_k.get(), edits_, parent_lists, bricks, n, words_, bits_,
+                  static_cast<cl_uint>(deps_ ? 1 : 0), dep_offsets, dep_indices, counts_);
+    scheduler_.launch(measure::Stage::cull, level, k.cull_count_k.get(), global, kGroup1d);
+    if (offsets_.size() < children) offsets_ = allocate<cl_uint>(d_, children, "the list offsets");
+    const std::uint64_t entries = b_.scan_.exclusive(counts_, offsets_, children, scheduler_, measure::Stage::cull, level);
+    auto lists = std::make_unique<ocl::Buffer<cl_uint>>(
+        allocate<cl_uint>(d_, entries, fmt::format("the edit lists of level {}", level)));
+    ocl::set_args(k.write_k.get(), parent_lists, bricks, n, words_, bits_, offsets_, *lists);
+    scheduler_.launch(measure::Stage::cull, level, k.write_k.get(), global, kGroup1d);
+    list_bytes_ += lists->bytes();
+    list_entries_.push_back(entries);
+    parent_lists_ = std::move(lists);
+}
+
+// The pool (every leaf's samples) and the leaves' boxes.
+void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
+    const BrickLayout layout = s_.layout();
+    const std::size_t samples3 = layout.samples_per_brick();
+    out_.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
+        d_, leaf_count * layout.brick_bytes(), fmt::format("the brick pool ({} bricks)", leaf_count)));
+    out_.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(allocate<SdfBounds>(d_, leaf_count, "the brick AABBs"));
+    if (leaf_count == 0) return;
+    const std::size_t group = std::min<std::size_t>(s_.eval_group, samples3);
+    const std::size_t per_item = (samples3 + group - 1) / group;
+    const ocl::Program program =
+        ocl::build_program(d_, "brick_evaluate.cl", fmt::format("{} -DPER_ITEM={}", layout.defines(), per_item));
+    const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
+    const int leaf_level = plan_.domain.levels - 1;
+    ocl::set_args(kernel.get(), edits_, *parent_lists_, *level_bricks_.back(), origin_.x, origin_.y, origin_.z,
+                  static_cast<float>(plan_.voxel), plan_.clamp_c, plan_.band, layout.quantise_scale(plan_.band),
+                  *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
+    scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
+    ocl::set_args(b_.programs_->aabb_k.get(), *level_bricks_.back(), static_cast<cl_uint>(leaf_count), origin_.x,
+                  origin_.y, origin_.z, out_.leaf_size, *out_.aabbs);
+    scheduler_.launch(measure::Stage::aabb, leaf_level, b_.programs_->aabb_k.get(), round_up(leaf_count, kGroup1d),
+                      kGroup1d);
+}
+
+// Bricks, list lengths, work and times per level (reads the records back; not part of device time).
+void BrickBuilder::Job::report(std::uint64_t leaf_count) {
+    std::uint64_t evaluations = 0;
+    std::uint64_t prev_entries = edits_host_.size();  // the pseudo-parent's list
+    std::vector<SdfBrick> prev{pseudo_};
+    for (std::size_t l = 0; l < level_bricks_.size(); ++l) {
+        const std::vector<SdfBrick> records = level_bricks_[l]->read();
+        LevelReport r;
+        r.level = static_cast<int>(l);
+        r.cell_size = plan_.domain.cell_size(r.level);
+        r.bricks = records.size();
+        r.edit_entries = l < list_entries_.size() ? list_entries_[l] : 0;
+        for (const SdfBrick& b : records) r.max_edits = std::max(r.max_edits, b.edit_count);
+        evaluations += prev_entries * (l == 0 ? 1 : plan_.per_parent);  // count: every candidate child of every parent
+        if (s_.cull)
+            for (const SdfBrick& p : prev)  // cull: each kept child tests its parent's list
+                evaluations += static_cast<std::uint64_t>(p.edit_count) *
+                               (l == 0 ? records.size()
+                                       : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
+        r.count_ms = scheduler_.stage_ms(measure::Stage::count, r.level, out_.first_launch);
+        r.scan_ms = scheduler_.stage_ms(measure::Stage::scan, r.level, out_.first_launch);
+        r.subdivide_ms = scheduler_.stage_ms(measure::Stage::subdivide, r.level, out_.first_launch);
+        r.cull_ms = scheduler_.stage_ms(measure::Stage::cull, r.level, out_.first_launch);
+        out_.level_reports.push_back(r);
+        prev_entries = r.edit_entries;
+        prev = records;
+    }
+    if (leaf_count > 0) {
+        const LevelReport& leaf = out_.level_reports.back();
+        out_.edits_per_leaf_mean = static_cast<double>(leaf.edit_entries) / static_cast<double>(leaf_count);
+        out_.edits_per_leaf_max = leaf.max_edits;
+        evaluations += leaf.edit_entries * s_.layout().samples_per_brick();
+    }
+    out_.edit_evaluations = evaluations;
+    out_.memory["brick pool"] = out_.pool->bytes();
+    out_.memory["brick records"] = brick_bytes_;
+    out_.memory["aabbs"] = out_.aabbs->bytes();
+    out_.memory["edit lists"] = list_bytes_;
+    out_.memory["edits"] = edits_.bytes();
+    out_.memory["scratch"] = scratch_bytes_;
+}
+
 GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, measure::Scheduler& scheduler) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate(device_.info());
@@ -122,236 +385,32 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
     GeometryBuild out;
     out.name = g.name;
     out.first_launch = out.end_launch = scheduler.size();
-
+    out.leaf_size = static_cast<float>(s.leaf_size);
     const Aabb box = bounds(g);
     if (box.empty()) {  // no add edit: nothing can be solid, an empty and valid result
         out.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(device_, 0);
         out.leaf_edit_indices = std::make_unique<ocl::Buffer<cl_uint>>(device_, 0);
         out.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device_, 0);
         out.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(device_, 0);
-        out.leaf_size = static_cast<float>(s.leaf_size);
         return out;
     }
-    construct::Domain domain = construct::make_domain(box, s.leaf_size, s.branching);
-    if (s.levels > 0) {
-        if (s.levels < domain.levels)
-            throw InputError(fmt::format("--levels {} cannot cover geometry \"{}\" at brick size {}: it needs at least {}",
-                                         s.levels, g.name, s.leaf_size, domain.levels));
-        const int bits_per_level = s.branching == 4 ? 2 : 1;
-        if ((s.levels - 1) * bits_per_level > 30)
-            throw InputError(fmt::format("--levels {} with branching {} exceeds 2^30 leaf bricks per axis", s.levels,
-                                         s.branching));
-        domain.levels = s.levels;
-    }
-    const int levels = domain.levels;
-    const cl_uint log2b = s.branching == 4 ? 2 : 1;
-    const std::size_t per_parent = std::size_t{1} << (3 * log2b);
-    out.origin = glm::vec3(domain.origin);
-    out.leaf_size = static_cast<float>(s.leaf_size);
-    out.levels = levels;
-
-    // Thresholds, saturation and margins (docs/construction.md).
-    const glm::dvec3 far_corner = domain.origin + domain.side();
-    const double magnitude = std::max({glm::abs(domain.origin).x, glm::abs(domain.origin).y, glm::abs(domain.origin).z,
-                                       std::abs(far_corner.x), std::abs(far_corner.y), std::abs(far_corner.z)});
-    auto threshold = [&](int level) {
-        return float_up(domain.half_diagonal(level) * (1.0 + 1.0 / 1024.0) + magnitude * std::ldexp(1.0, -16));
-    };
-    const double voxel = s.voxel();
-    out.band = static_cast<float>(s.band_voxels * voxel);
-    out.clamp_c = float_up(std::max<double>(out.band, threshold(levels - 1)) * (1.0 + 1.0 / 256.0) +
-                           s.guard * largest_blend(g));
-    auto cull_radius = [&](int level) {
-        return float_up(std::sqrt(3.0) * (0.5 * domain.cell_size(level) + (s.apron() - 0.5) * voxel) * (1.0 + 1e-6));
-    };
-
-    // Edits, the root's list (every edit, ascending) and the dependencies.
-    const std::vector<SdfEdit> device_edits = to_device(g);
-    const std::size_t n_edits = device_edits.size();
-    ocl::Buffer<SdfEdit> edits(device_, device_edits, CL_MEM_READ_ONLY);
-    std::vector<cl_uint> all(n_edits);
-    std::iota(all.begin(), all.end(), 0u);
-    std::optional<EditDependencies> deps;
-    if (s.cull && s.dependencies) {
-        if (!programs_->dependencies) programs_->dependencies = std::make_unique<DependencyBuilder>(device_, scan_);
-        deps = programs_->dependencies->compute(edits, n_edits, scheduler);
-        out.dependency_entries = deps->total;
-        out.memory["dependency lists"] = deps->bytes();
-    }
-    ocl::Buffer<cl_uint> empty_uints(device_, 0);
-    const ocl::Buffer<cl_uint>& dep_offsets = deps ? deps->offsets : empty_uints;
-    const ocl::Buffer<cl_uint>& dep_indices = deps ? deps->indices : empty_uints;
-
-    // Level -1: one pseudo-parent whose single child (branching 1) is the root.
-    SdfBrick pseudo{};
-    pseudo.level = 0xffffffffu;
-    pseudo.edit_offset = 0;
-    pseudo.edit_count = static_cast<sdf_u32>(n_edits);
-    auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(device_, std::span<const SdfBrick>(&pseudo, 1));
-    auto parent_lists = std::make_unique<ocl::Buffer<cl_uint>>(device_, std::span<const cl_uint>(all));
-    std::size_t parent_count = 1;
-    std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks;
-    std::uint64_t brick_bytes = 0, list_bytes = parent_lists->bytes(), scratch_bytes = 0;
-    std::vector<std::uint64_t> list_entries;
-
-    ocl::Buffer<cl_uint> counts(device_, 0), offsets(device_, 0), words(device_, 0), bits(device_, 0);
-    const float ox = out.origin.x, oy = out.origin.y, oz = out.origin.z;
-    const std::size_t count_local_bytes = static_cast<std::size_t>(s.chunk) * sizeof(SdfEdit);
-
-    for (int level = 0; level < levels; ++level) {
-        const cl_uint lb = level == 0 ? 0u : log2b;
-        const std::size_t candidates = parent_count << (3 * lb);
-        const std::size_t group = std::size_t{1} << (3 * lb);
-        const float cell = static_cast<float>(domain.cell_size(level));
-        // count
-        if (counts.size() < parent_count) counts = allocate<cl_uint>(device_, parent_count, "the child counts");
-        if (offsets.size() < parent_count) offsets = allocate<cl_uint>(device_, parent_count, "the child offsets");
-        ocl::set_args(programs_->count_k.get(), edits, *parent_lists, *parents, lb, ox, oy, oz, cell, threshold(level),
-                      out.clamp_c, counts, ocl::LocalMemory{count_local_bytes}, static_cast<cl_uint>(s.chunk),
-                      ocl::LocalMemory{group * sizeof(cl_uint)});
-        scheduler.launch(measure::Stage::count, level, programs_->count_k.get(), candidates, group);
-        // scan
-        const std::uint64_t children = scan_.exclusive(counts, offsets, parent_count, scheduler, measure::Stage::scan, level);
-        // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count
-        // grows about B^2 per level, so project the leaves from this level's count (generously).
-        const int remaining = levels - 1 - level;
-        const double projected = static_cast<double>(children) * std::pow(double(s.branching), 2.0 * remaining);
-        const double pool_projected = projected * std::pow(double(s.samples), 3.0) * double(sample_bytes(s.format));
-        if (pool_projected > 4.0 * static_cast<double>(device_.info().max_alloc_bytes))
-            throw InputError(fmt::format(
-                "brick size {} is too small for geometry \"{}\" on {}: level {} already has {} bricks, which "
-                "projects to about {:.3g} leaf bricks and a brick pool of {:.3g} bytes; the device allocates at most "
-                "{} bytes at once: use a larger --brick-size",
-                s.leaf_size, g.name, device_.info().name, level, children, projected, pool_projected,
-                device_.info().max_alloc_bytes));
-        // subdivide
-        auto bricks = std::make_unique<ocl::Buffer<SdfBrick>>(
-            allocate<SdfBrick>(device_, children, fmt::format("level {} ({} bricks)", level, children)));
-        brick_bytes += bricks->bytes();
-        if (children > 0) {
-            ocl::set_args(programs_->subdivide_k.get(), *parents, static_cast<cl_uint>(parent_count), lb, offsets, *bricks);
-            const std::size_t global = round_up(candidates, kGroup1d);
-            scheduler.launch(measure::Stage::subdivide, level, programs_->subdivide_k.get(), global, kGroup1d);
-        }
-        if (level > 0) level_bricks.push_back(std::move(parents));  // the parent level's masks are final now
-        // cull
-        std::unique_ptr<ocl::Buffer<cl_uint>> lists;
-        if (s.cull && children > 0) {
-            const std::size_t global = round_up(children, kGroup1d);
-            if (words.size() < children) words = allocate<cl_uint>(device_, children, "the cull word counts");
-            if (counts.size() < children) counts = allocate<cl_uint>(device_, children, "the cull counts");
-            ocl::set_args(programs_->words_k.get(), *bricks, static_cast<cl_uint>(children), words);
-            scheduler.launch(measure::Stage::cull, level, programs_->words_k.get(), global, kGroup1d);
-            const std::uint64_t total_words = scan_.exclusive(words, words, children, scheduler, measure::Stage::cull, level);
-            if (bits.size() < total_words) bits = allocate<cl_uint>(device_, total_words, "the cull bit sets");
-            if (total_words > 0) {
-                const std::size_t word_global = round_up(total_words, kGroup1d);
-                ocl::set_args(programs_->mark_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
-                              static_cast<cl_uint>(total_words), ox, oy, oz, cell, cull_radius(level), out.clamp_c,
-                              static_cast<float>(magnitude), words, bits);
-                scheduler.launch(measure::Stage::cull, level, programs_->mark_k.get(), word_global, kGroup1d);
-            }
-            ocl::set_args(programs_->cull_count_k.get(), edits, *parent_lists, *bricks, static_cast<cl_uint>(children),
-                          words, bits, static_cast<cl_uint>(deps ? 1 : 0), dep_offsets, dep_indices, counts);
-            scheduler.launch(measure::Stage::cull, level, programs_->cull_count_k.get(), global, kGroup1d);
-            if (offsets.size() < children) offsets = allocate<cl_uint>(device_, children, "the list offsets");
-            const std::uint64_t entries = scan_.exclusive(counts, offsets, children, scheduler, measure::Stage::cull, level);
-            lists = std::make_unique<ocl::Buffer<cl_uint>>(
-                allocate<cl_uint>(device_, entries, fmt::format("the edit lists of level {}", level)));
-            ocl::set_args(programs_->write_k.get(), *parent_lists, *bricks, static_cast<cl_uint>(children), words, bits,
-                          offsets, *lists);
-            scheduler.launch(measure::Stage::cull, level, programs_->write_k.get(), global, kGroup1d);
-            list_bytes += lists->bytes();
-            list_entries.push_back(entries);
-        } else {
-            lists = std::move(parent_lists);  // every brick keeps the whole list
-            list_entries.push_back(children * n_edits);
-        }
-        scratch_bytes = std::max<std::uint64_t>(scratch_bytes, counts.bytes() + offsets.bytes() + words.bytes() + bits.bytes());
-        parents = std::move(bricks);
-        parent_lists = std::move(lists);
-        parent_count = children;
-        if (children == 0) break;
-    }
-    const bool complete = level_bricks.size() + 1 == static_cast<std::size_t>(levels) && parent_count > 0;
-    out.leaf_count = complete ? parent_count : 0;
-    level_bricks.push_back(std::move(parents));
-
-    // evaluate + aabb
-    const std::size_t samples3 = static_cast<std::size_t>(s.samples) * s.samples * s.samples;
-    const std::size_t pool_values = out.leaf_count * samples3;
-    out.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
-        device_, pool_values * sample_bytes(s.format), fmt::format("the brick pool ({} bricks)", out.leaf_count)));
-    out.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(
-        allocate<SdfBounds>(device_, out.leaf_count, "the brick AABBs"));
-    if (out.leaf_count > 0) {
-        const std::size_t group = std::min<std::size_t>(s.eval_group, samples3);
-        const std::size_t per_item = (samples3 + group - 1) / group;
-        const std::string options = fmt::format("-D SAMPLES={} -D APRON={} -D PER_ITEM={} -D FORMAT={}", s.samples,
-                                                s.apron(), per_item, static_cast<int>(s.format));
-        const ocl::Program program = ocl::build_program(device_, "brick_evaluate.cl", options);
-        const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
-        const float quant = s.format == BrickFormat::int8    ? static_cast<float>(127.0 / out.band)
-                            : s.format == BrickFormat::int16 ? static_cast<float>(32767.0 / out.band)
-                                                             : 1.0f;
-        ocl::set_args(kernel.get(), edits, *parent_lists, *level_bricks.back(), ox, oy, oz, static_cast<float>(voxel),
-                      out.clamp_c, out.band, quant, *out.pool, ocl::LocalMemory{count_local_bytes},
-                      static_cast<cl_uint>(s.chunk));
-        scheduler.launch(measure::Stage::evaluate, levels - 1, kernel.get(), out.leaf_count * group, group);
-        const std::size_t global = round_up(out.leaf_count, kGroup1d);
-        ocl::set_args(programs_->aabb_k.get(), *level_bricks.back(), static_cast<cl_uint>(out.leaf_count), ox, oy, oz,
-                      out.leaf_size, *out.aabbs);
-        scheduler.launch(measure::Stage::aabb, levels - 1, programs_->aabb_k.get(), global, kGroup1d);
-    }
+    const BuildPlan plan = plan_build(g, box, s);
+    out.origin = glm::vec3(plan.domain.origin);
+    out.levels = plan.domain.levels;
+    out.band = plan.band;
+    out.clamp_c = plan.clamp_c;
+    Job job(*this, g, s, plan, scheduler, out);
+    job.start();
+    const bool complete = job.run_levels();
+    out.leaf_count = complete ? job.parent_count() : 0;
+    job.evaluate_leaves(out.leaf_count);
     device_.finish();
     scheduler.resolve();
     out.end_launch = scheduler.size();
     out.device_ms = scheduler.total_ms(out.first_launch);
-
-    // Report: bricks, list lengths and work per level (read back the records; not part of device time).
-    std::uint64_t evaluations = 0;
-    std::uint64_t prev_entries = n_edits;  // the pseudo-parent's list
-    std::vector<SdfBrick> prev{pseudo};
-    for (std::size_t l = 0; l < level_bricks.size(); ++l) {
-        const std::vector<SdfBrick> records = level_bricks[l]->read();
-        LevelReport r;
-        r.level = static_cast<int>(l);
-        r.cell_size = domain.cell_size(static_cast<int>(l));
-        r.bricks = records.size();
-        r.edit_entries = l < list_entries.size() ? list_entries[l] : 0;
-        for (const SdfBrick& b : records) r.max_edits = std::max(r.max_edits, b.edit_count);
-        const std::uint64_t per = l == 0 ? 1 : per_parent;
-        evaluations += prev_entries * per;  // count: every candidate child of every parent
-        if (s.cull) {
-            for (const SdfBrick& p : prev)  // cull: each kept child tests its parent's list
-                evaluations += static_cast<std::uint64_t>(p.edit_count) *
-                               (l == 0 ? records.size()
-                                       : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
-        }
-        r.count_ms = scheduler.stage_ms(measure::Stage::count, r.level, out.first_launch);
-        r.scan_ms = scheduler.stage_ms(measure::Stage::scan, r.level, out.first_launch);
-        r.subdivide_ms = scheduler.stage_ms(measure::Stage::subdivide, r.level, out.first_launch);
-        r.cull_ms = scheduler.stage_ms(measure::Stage::cull, r.level, out.first_launch);
-        out.level_reports.push_back(r);
-        prev_entries = r.edit_entries;
-        prev = records;
-    }
-    if (out.leaf_count > 0) {
-        const LevelReport& leaf = out.level_reports.back();
-        out.edits_per_leaf_mean = static_cast<double>(leaf.edit_entries) / static_cast<double>(out.leaf_count);
-        out.edits_per_leaf_max = leaf.max_edits;
-        evaluations += leaf.edit_entries * samples3;
-    }
-    out.edit_evaluations = evaluations;
-    out.memory["brick pool"] = out.pool->bytes();
-    out.memory["brick records"] = brick_bytes;
-    out.memory["aabbs"] = out.aabbs->bytes();
-    out.memory["edit lists"] = list_bytes;
-    out.memory["edits"] = edits.bytes();
-    out.memory["scratch"] = scratch_bytes;
-    out.leaves = std::move(level_bricks.back());
-    if (!complete) out.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(device_, 0);
-    out.leaf_edit_indices = std::move(parent_lists);
+    job.report(out.leaf_count);
+    out.leaves = complete ? job.take_leaves() : std::make_unique<ocl::Buffer<SdfBrick>>(device_, 0);
+    out.leaf_edit_indices = job.take_lists();
     out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
     return out;
 }

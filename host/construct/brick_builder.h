@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include "construct/brick_layout.h"
 #include "construct/scan.h"
 #include "measure/scheduler.h"
 #include "cl/buffer.h"
@@ -25,11 +26,6 @@
 #include "sdf_types.h"
 
 namespace sdfbrick::construct {
-
-enum class BrickFormat { int8, int16, float32 };
-std::string_view to_string(BrickFormat f);  // "int8", "int16", "float"
-std::optional<BrickFormat> format_from_string(std::string_view s);
-std::size_t sample_bytes(BrickFormat f);
 
 struct BuildSettings {
     double leaf_size = 0.0625;    // side of a leaf brick (geometry units)
@@ -44,9 +40,8 @@ struct BuildSettings {
     bool cull = true;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
 
-    int apron() const { return samples == 10 ? 2 : 1; }
-    int interior() const { return samples - 2 * apron(); }  // 6 in both layouts
-    double voxel() const { return leaf_size / interior(); }
+    BrickLayout layout() const { return {samples, format}; }
+    double voxel() const { return leaf_size / layout().interior(); }
     // Throws InputError naming the option ("--chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
 };
@@ -100,6 +95,7 @@ public:
 
 private:
     struct Programs;
+    class Job;  // one build() call's steps
     ocl::Device& device_;
     Scan scan_;
     std::unique_ptr<Programs> programs_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -123,6 +124,132 @@ DependencyBuilder::DependencyBuilder(ocl::Device& device, Scan& scan)
     while (reduce_local_ > 1 && reduce_local_ > limit) reduce_local_ /= 2;  // stays a power of two
 }
 
+// One compute() call: the edits, the output and the scratch memory it tracks, and its steps.
+class DependencyBuilder::Job {
+public:
+    Job(DependencyBuilder& b, const ocl::Buffer<SdfEdit>& edits, std::size_t count, measure::Scheduler& scheduler,
+        EditDependencies& out)
+        : b_(b), edits_(edits), count_(count), n_(static_cast<cl_uint>(count)), scheduler_(scheduler), out_(out),
+          groups_((count + b.reduce_local_ - 1) / b.reduce_local_), reduce_global_(groups_ * b.reduce_local_) {}
+
+    void bounds() {
+        ocl::set_args(b_.edit_bounds_.get(), edits_, n_, out_.bounds, out_.influence);
+        scheduler_.launch(kBoundsStage, -1, b_.edit_bounds_.get(), count_);
+    }
+
+    // Union, mean extent and count of the influence boxes (a small read-back: 10 floats per work-group).
+    BoxStats box_stats() {
+        ocl::Buffer<float> partials(b_.device_, groups_ * 10);
+        hold(partials.bytes());
+        ocl::set_args(b_.grid_stats_.get(), out_.influence, n_, partials,
+                      ocl::LocalMemory{10 * b_.reduce_local_ * sizeof(float)});
+        scheduler_.launch(kDepsStage, -1, b_.grid_stats_.get(), reduce_global_, b_.reduce_local_);
+        const std::vector<float> p = partials.read();
+        release(partials.bytes());
+        BoxStats stats;
+        std::array<double, 3> sum{0.0, 0.0, 0.0};
+        for (int a = 0; a < 3; ++a) {
+            stats.lo[a] = std::numeric_limits<double>::infinity();
+            stats.hi[a] = -std::numeric_limits<double>::infinity();
+        }
+        double boxes = 0.0;
+        for (std::size_t g = 0; g < groups_; ++g) {
+            for (int a = 0; a < 3; ++a) {
+                stats.lo[a] = std::min(stats.lo[a], double(p[g * 10 + a]));
+                stats.hi[a] = std::max(stats.hi[a], double(p[g * 10 + 3 + a]));
+                sum[a] += double(p[g * 10 + 6 + a]);
+            }
+            boxes += double(p[g * 10 + 9]);
+        }
+        stats.boxes = static_cast<std::size_t>(boxes);
+        for (int a = 0; a < 3; ++a) stats.mean_extent[a] = boxes > 0.0 ? sum[a] / boxes : 0.0;
+        return stats;
+    }
+
+    // choose_grid's grid, coarsened until its cell references fit max_refs.
+    Grid fit_grid(const BoxStats& stats) {
+        Grid grid = choose_grid(stats);
+        const std::uint64_t cap = max_refs(count_);
+        ocl::Buffer<cl_ulong> partials(b_.device_, groups_);
+        hold(partials.bytes());
+        for (int attempt = 0; grid.cells() != 1; ++attempt) {
+            set_grid_args(b_.grid_refs_.get(), grid, partials, ocl::LocalMemory{b_.reduce_local_ * sizeof(cl_ulong)});
+            scheduler_.launch(kDepsStage, -1, b_.grid_refs_.get(), reduce_global_, b_.reduce_local_);
+            std::uint64_t refs = 0;
+            for (cl_ulong r : partials.read()) refs += r;
+            if (refs <= cap) break;
+            if (attempt >= 24) {
+                grid = single_cell();
+                continue;
+            }
+            const double factor = std::max(1.25, std::cbrt(double(refs) / double(cap)));
+            grid = grid_with_cell(stats, grid.cell * factor);
+        }
+        release(partials.bytes());
+        return grid;
+    }
+
+    // The boxes of every grid cell (starts, items), then every edit's dependency list.
+    void lists(const Grid& grid) {
+        const std::size_t cells = static_cast<std::size_t>(grid.cells());
+        ocl::Buffer<cl_uint> cell_counts(b_.device_, cells + 1);  // + 1: a 0 whose exclusive scan is the total
+        ocl::Buffer<cl_uint> cell_starts(b_.device_, cells + 1);
+        hold(cell_counts.bytes() + cell_starts.bytes());
+        ocl::set_args(b_.fill_uint_.get(), cell_counts, static_cast<cl_uint>(cells + 1), cl_uint{0});
+        scheduler_.launch(kDepsStage, -1, b_.fill_uint_.get(), cells + 1);
+        set_grid_args(b_.grid_count_.get(), grid, cell_counts);
+        scheduler_.launch(kDepsStage, -1, b_.grid_count_.get(), count_);
+        const std::uint64_t total_refs =
+            b_.scan_.exclusive(cell_counts, cell_starts, cells + 1, scheduler_, kDepsStage, -1);
+        ocl::Buffer<cl_uint> items(b_.device_, static_cast<std::size_t>(total_refs));
+        hold(items.bytes());
+        set_grid_args(b_.grid_fill_.get(), grid, cell_starts, cell_counts, items);
+        scheduler_.launch(kDepsStage, -1, b_.grid_fill_.get(), count_);
+        ocl::set_args(b_.grid_sort_.get(), cell_starts, static_cast<cl_uint>(cells), items);
+        scheduler_.launch(kDepsStage, -1, b_.grid_sort_.get(), cells);
+        dependency_lists(grid, cell_starts, items);
+        out_.scratch_bytes = peak_;
+        out_.grid_dims = grid.dims;
+        out_.grid_cell = grid.inv > 0.0f ? static_cast<float>(grid.cell) : 0.0f;
+        out_.grid_refs = static_cast<std::size_t>(total_refs);
+    }
+
+private:
+    void dependency_lists(const Grid& grid, const ocl::Buffer<cl_uint>& cell_starts, const ocl::Buffer<cl_uint>& items) {
+        ocl::set_args(b_.deps_count_.get(), edits_, out_.influence, n_, grid.origin[0], grid.origin[1], grid.origin[2],
+                      grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out_.offsets);
+        scheduler_.launch(kDepsStage, -1, b_.deps_count_.get(), count_ + 1);
+        out_.total = static_cast<std::size_t>(
+            b_.scan_.exclusive(out_.offsets, out_.offsets, count_ + 1, scheduler_, kDepsStage, -1));
+        out_.indices = ocl::Buffer<cl_uint>(b_.device_, out_.total);
+        if (out_.total == 0) return;
+        ocl::set_args(b_.deps_write_.get(), edits_, out_.influence, n_, grid.origin[0], grid.origin[1], grid.origin[2],
+                      grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out_.offsets,
+                      out_.indices);
+        scheduler_.launch(kDepsStage, -1, b_.deps_write_.get(), count_);
+    }
+
+    template <class... Rest>
+    void set_grid_args(cl_kernel k, const Grid& grid, Rest&&... rest) {
+        ocl::set_args(k, out_.influence, n_, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv, grid.dims[0],
+                      grid.dims[1], grid.dims[2], std::forward<Rest>(rest)...);
+    }
+    void hold(std::size_t bytes) {
+        scratch_ += bytes;
+        peak_ = std::max(peak_, scratch_);
+    }
+    void release(std::size_t bytes) { scratch_ -= bytes; }
+
+    DependencyBuilder& b_;
+    const ocl::Buffer<SdfEdit>& edits_;
+    std::size_t count_;
+    cl_uint n_;
+    measure::Scheduler& scheduler_;
+    EditDependencies& out_;
+    std::size_t groups_, reduce_global_;
+    std::size_t scratch_ = 0, peak_ = 0;
+};
+
 EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, std::size_t count,
                                             measure::Scheduler& scheduler) {
     if (count > edits.size())
@@ -137,113 +264,9 @@ EditDependencies DependencyBuilder::compute(const ocl::Buffer<SdfEdit>& edits, s
         out.offsets.write(zero);
         return out;
     }
-    const auto n = static_cast<cl_uint>(count);
-
-    // ---- bounds ----
-    ocl::set_args(edit_bounds_.get(), edits, n, out.bounds, out.influence);
-    scheduler.launch(kBoundsStage, -1, edit_bounds_.get(), count);
-
-    // ---- grid statistics (small read-back: 10 floats per work-group) ----
-    const std::size_t groups = (count + reduce_local_ - 1) / reduce_local_;
-    const std::size_t reduce_global = groups * reduce_local_;
-    std::size_t scratch = 0, peak = 0;
-    BoxStats stats;
-    {
-        ocl::Buffer<float> partials(device_, groups * 10);
-        scratch += partials.bytes();
-        peak = std::max(peak, scratch);
-        ocl::set_args(grid_stats_.get(), out.influence, n, partials,
-                      ocl::LocalMemory{10 * reduce_local_ * sizeof(float)});
-        scheduler.launch(kDepsStage, -1, grid_stats_.get(), reduce_global, reduce_local_);
-        const std::vector<float> p = partials.read();
-        scratch -= partials.bytes();
-        std::array<double, 3> sum{0.0, 0.0, 0.0};
-        for (int a = 0; a < 3; ++a) {
-            stats.lo[a] = std::numeric_limits<double>::infinity();
-            stats.hi[a] = -std::numeric_limits<double>::infinity();
-        }
-        double boxes = 0.0;
-        for (std::size_t g = 0; g < groups; ++g) {
-            for (int a = 0; a < 3; ++a) {
-                stats.lo[a] = std::min(stats.lo[a], double(p[g * 10 + a]));
-                stats.hi[a] = std::max(stats.hi[a], double(p[g * 10 + 3 + a]));
-                sum[a] += double(p[g * 10 + 6 + a]);
-            }
-            boxes += double(p[g * 10 + 9]);
-        }
-        stats.boxes = static_cast<std::size_t>(boxes);
-        for (int a = 0; a < 3; ++a) stats.mean_extent[a] = boxes > 0.0 ? sum[a] / boxes : 0.0;
-    }
-
-    // ---- the grid: coarsened until its cell references fit max_refs ----
-    Grid grid = choose_grid(stats);
-    std::uint64_t refs = 0;
-    const std::uint64_t cap = max_refs(count);
-    {
-        ocl::Buffer<cl_ulong> partials(device_, groups);
-        scratch += partials.bytes();
-        peak = std::max(peak, scratch);
-        for (int attempt = 0;; ++attempt) {
-            if (grid.cells() == 1) {
-                refs = 0;  // one reference per valid box: counted by the scan below
-                break;
-            }
-            ocl::set_args(grid_refs_.get(), out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv,
-                          grid.dims[0], grid.dims[1], grid.dims[2], partials,
-                          ocl::LocalMemory{reduce_local_ * sizeof(cl_ulong)});
-            scheduler.launch(kDepsStage, -1, grid_refs_.get(), reduce_global, reduce_local_);
-            refs = 0;
-            for (cl_ulong r : partials.read()) refs += r;
-            if (refs <= cap) break;
-            if (attempt >= 24) {
-                grid = single_cell();
-                continue;
-            }
-            const double factor = std::max(1.25, std::cbrt(double(refs) / double(cap)));
-            grid = grid_with_cell(stats, grid.cell * factor);
-        }
-        scratch -= partials.bytes();
-    }
-
-    // ---- cell lists ----
-    const std::size_t cells = static_cast<std::size_t>(grid.cells());
-    ocl::Buffer<cl_uint> cell_counts(device_, cells + 1);  // + 1: a 0 whose exclusive scan is the total
-    ocl::Buffer<cl_uint> cell_starts(device_, cells + 1);
-    scratch += cell_counts.bytes() + cell_starts.bytes();
-    ocl::set_args(fill_uint_.get(), cell_counts, static_cast<cl_uint>(cells + 1), cl_uint{0});
-    scheduler.launch(kDepsStage, -1, fill_uint_.get(), cells + 1);
-    const auto set_grid_args = [&](cl_kernel k, auto&&... rest) {
-        ocl::set_args(k, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2], grid.inv, grid.dims[0],
-                      grid.dims[1], grid.dims[2], rest...);
-    };
-    set_grid_args(grid_count_.get(), cell_counts);
-    scheduler.launch(kDepsStage, -1, grid_count_.get(), count);
-    const std::uint64_t total_refs = scan_.exclusive(cell_counts, cell_starts, cells + 1, scheduler, kDepsStage, -1);
-    ocl::Buffer<cl_uint> items(device_, static_cast<std::size_t>(total_refs));
-    scratch += items.bytes();
-    peak = std::max(peak, scratch);
-    set_grid_args(grid_fill_.get(), cell_starts, cell_counts, items);
-    scheduler.launch(kDepsStage, -1, grid_fill_.get(), count);
-    ocl::set_args(grid_sort_.get(), cell_starts, static_cast<cl_uint>(cells), items);
-    scheduler.launch(kDepsStage, -1, grid_sort_.get(), cells);
-
-    // ---- dependency lists ----
-    ocl::set_args(deps_count_.get(), edits, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2],
-                  grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out.offsets);
-    scheduler.launch(kDepsStage, -1, deps_count_.get(), count + 1);
-    out.total =
-        static_cast<std::size_t>(scan_.exclusive(out.offsets, out.offsets, count + 1, scheduler, kDepsStage, -1));
-    out.indices = ocl::Buffer<cl_uint>(device_, out.total);
-    if (out.total > 0) {
-        ocl::set_args(deps_write_.get(), edits, out.influence, n, grid.origin[0], grid.origin[1], grid.origin[2],
-                      grid.inv, grid.dims[0], grid.dims[1], grid.dims[2], cell_starts, items, out.offsets,
-                      out.indices);
-        scheduler.launch(kDepsStage, -1, deps_write_.get(), count);
-    }
-    out.scratch_bytes = peak;
-    out.grid_dims = grid.dims;
-    out.grid_cell = grid.inv > 0.0f ? static_cast<float>(grid.cell) : 0.0f;
-    out.grid_refs = static_cast<std::size_t>(total_refs);
+    Job job(*this, edits, count, scheduler, out);
+    job.bounds();
+    job.lists(job.fit_grid(job.box_stats()));
     return out;
 }
 

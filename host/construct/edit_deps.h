@@ -47,6 +47,7 @@ public:
     static std::size_t max_refs(std::size_t n);
 
 private:
+    class Job;  // one compute() call's steps
     ocl::Device& device_;
     Scan& scan_;
     ocl::Program bounds_program_, deps_program_;

@@ -161,6 +161,64 @@ std::uint64_t bytes_of(const std::vector<T>& v) {
     return static_cast<std::uint64_t>(v.size()) * sizeof(T);
 }
 
+void check_objects(const Scene& scene) {
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        if (o.geometry >= scene.geometries.size())
+            throw InputError(fmt::format("object {} (\"{}\") names geometry {}, but the scene has {}", i, o.name,
+                                         o.geometry, scene.geometries.size()));
+        const double sc = o.transform.scale;
+        if (!std::isfinite(sc) || sc <= 0.0 || !std::isfinite(max_abs(o.transform.translation)))
+            throw InputError(fmt::format("object {} (\"{}\"): its transform must be finite with scale > 0", i, o.name));
+    }
+}
+
+// Every geometry's record, edits, boxes, BVH and intersect list, concatenated as the kernel reads them.
+struct PackedScene {
+    std::vector<RefGeometry> records;
+    std::vector<SdfEdit> edits;
+    std::vector<SdfBounds> boxes;
+    std::vector<SdfBvhNode> nodes;
+    std::vector<std::uint32_t> isect;
+    std::vector<ReferenceGeometryInfo> infos;
+};
+
+PackedScene pack_geometries(const Scene& scene, const ReferenceSettings& settings) {
+    PackedScene out;
+    for (const Geometry& g : scene.geometries) {
+        PreparedGeometry p = prepare(g, settings, true);
+        RefGeometry r = p.record;
+        r.edit_offset = static_cast<std::uint32_t>(out.edits.size());
+        r.edit_count = static_cast<std::uint32_t>(p.info.traceable ? p.edits.size() : 0);
+        r.node_offset = static_cast<std::uint32_t>(out.nodes.size());
+        r.node_count = static_cast<std::uint32_t>(p.info.traceable ? p.bvh.nodes.size() : 0);
+        r.isect_offset = static_cast<std::uint32_t>(out.isect.size());
+        r.isect_count = static_cast<std::uint32_t>(p.info.traceable ? p.isect.size() : 0);
+        if (p.info.traceable) {
+            out.edits.insert(out.edits.end(), p.edits.begin(), p.edits.end());
+            out.boxes.insert(out.boxes.end(), p.boxes.begin(), p.boxes.end());
+            out.nodes.insert(out.nodes.end(), p.bvh.nodes.begin(), p.bvh.nodes.end());
+            out.isect.insert(out.isect.end(), p.isect.begin(), p.isect.end());
+        }
+        out.records.push_back(r);
+        out.infos.push_back(std::move(p.info));
+        if (out.edits.size() > std::numeric_limits<std::uint32_t>::max() / 2)
+            throw InputError("the scene's geometries hold too many edits for one reference render");
+    }
+    return out;
+}
+
+// Sums the per-pixel counters into result.
+void add_counters(ReferenceResult& result, const std::vector<cl_uint2>& counts) {
+    for (std::size_t i = 0; i < result.image.pixels(); ++i) {
+        result.march_steps += result.image.aux[i].s[0];
+        result.unconverged_pixels += (result.image.aux[i].s[1] & kRefFlagUnconverged) != 0;
+        result.hit_pixels += result.image.is_hit(i);
+        result.overflow_points += counts[i].s[0];
+        result.fallback_points += counts[i].s[1];
+    }
+}
+
 }  // namespace
 
 ReferenceGeometryInfo reference_geometry_info(const Geometry& g, const ReferenceSettings& settings) {
@@ -177,46 +235,12 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
     check_settings(settings);
     validate_image_size(static_cast<int>(std::min<sdf_u32>(camera.width, 1u << 30)),
                         static_cast<int>(std::min<sdf_u32>(camera.height, 1u << 30)));
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const Object& o = scene.objects[i];
-        if (o.geometry >= scene.geometries.size())
-            throw InputError(fmt::format("object {} (\"{}\") names geometry {}, but the scene has {}", i, o.name,
-                                         o.geometry, scene.geometries.size()));
-        const double sc = o.transform.scale;
-        if (!std::isfinite(sc) || sc <= 0.0 || !std::isfinite(max_abs(o.transform.translation)))
-            throw InputError(fmt::format("object {} (\"{}\"): its transform must be finite with scale > 0", i, o.name));
-    }
-
+    check_objects(scene);
     ReferenceResult result;
     const int width = static_cast<int>(camera.width), height = static_cast<int>(camera.height);
     result.image = RenderBuffer(width, height);
-
-    // Geometries: records, edits, boxes, BVHs, intersect lists, concatenated.
-    std::vector<RefGeometry> records;
-    std::vector<SdfEdit> edits;
-    std::vector<SdfBounds> boxes;
-    std::vector<SdfBvhNode> nodes;
-    std::vector<std::uint32_t> isect;
-    for (const Geometry& g : scene.geometries) {
-        PreparedGeometry p = prepare(g, settings, true);
-        RefGeometry r = p.record;
-        r.edit_offset = static_cast<std::uint32_t>(edits.size());
-        r.edit_count = static_cast<std::uint32_t>(p.info.traceable ? p.edits.size() : 0);
-        r.node_offset = static_cast<std::uint32_t>(nodes.size());
-        r.node_count = static_cast<std::uint32_t>(p.info.traceable ? p.bvh.nodes.size() : 0);
-        r.isect_offset = static_cast<std::uint32_t>(isect.size());
-        r.isect_count = static_cast<std::uint32_t>(p.info.traceable ? p.isect.size() : 0);
-        if (p.info.traceable) {
-            edits.insert(edits.end(), p.edits.begin(), p.edits.end());
-            boxes.insert(boxes.end(), p.boxes.begin(), p.boxes.end());
-            nodes.insert(nodes.end(), p.bvh.nodes.begin(), p.bvh.nodes.end());
-            isect.insert(isect.end(), p.isect.begin(), p.isect.end());
-        }
-        records.push_back(r);
-        result.geometries.push_back(std::move(p.info));
-        if (edits.size() > std::numeric_limits<std::uint32_t>::max() / 2)
-            throw InputError("the scene's geometries hold too many edits for one reference render");
-    }
+    PackedScene packed = pack_geometries(scene, settings);
+    result.geometries = std::move(packed.infos);
     const std::vector<SdfInstance> instances = make_instances(scene);
 
     // Device buffers (a zero-element Buffer is valid: the kernel then reads none of it).
@@ -224,25 +248,24 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
     const std::array<SdfCamera, 1> cam{camera};
     ocl::Buffer<SdfCamera> camera_buf(device_, std::span<const SdfCamera>(cam), CL_MEM_READ_ONLY);
     ocl::Buffer<SdfInstance> instance_buf(device_, std::span<const SdfInstance>(instances), CL_MEM_READ_ONLY);
-    ocl::Buffer<RefGeometry> geometry_buf(device_, std::span<const RefGeometry>(records), CL_MEM_READ_ONLY);
-    ocl::Buffer<SdfEdit> edit_buf(device_, std::span<const SdfEdit>(edits), CL_MEM_READ_ONLY);
-    ocl::Buffer<SdfBounds> box_buf(device_, std::span<const SdfBounds>(boxes), CL_MEM_READ_ONLY);
-    ocl::Buffer<SdfBvhNode> node_buf(device_, std::span<const SdfBvhNode>(nodes), CL_MEM_READ_ONLY);
-    ocl::Buffer<std::uint32_t> isect_buf(device_, std::span<const std::uint32_t>(isect), CL_MEM_READ_ONLY);
+    ocl::Buffer<RefGeometry> geometry_buf(device_, std::span<const RefGeometry>(packed.records), CL_MEM_READ_ONLY);
+    ocl::Buffer<SdfEdit> edit_buf(device_, std::span<const SdfEdit>(packed.edits), CL_MEM_READ_ONLY);
+    ocl::Buffer<SdfBounds> box_buf(device_, std::span<const SdfBounds>(packed.boxes), CL_MEM_READ_ONLY);
+    ocl::Buffer<SdfBvhNode> node_buf(device_, std::span<const SdfBvhNode>(packed.nodes), CL_MEM_READ_ONLY);
+    ocl::Buffer<std::uint32_t> isect_buf(device_, std::span<const std::uint32_t>(packed.isect), CL_MEM_READ_ONLY);
     ocl::Buffer<cl_float4> hit_buf(device_, pixels, CL_MEM_WRITE_ONLY);
     ocl::Buffer<cl_uint2> aux_buf(device_, pixels, CL_MEM_WRITE_ONLY);
     ocl::Buffer<cl_uint2> count_buf(device_, pixels, CL_MEM_WRITE_ONLY);
-
-    result.memory["camera"] = sizeof(SdfCamera);
-    result.memory["instances"] = bytes_of(instances);
-    result.memory["geometries"] = bytes_of(records);
-    result.memory["edits"] = bytes_of(edits);
-    result.memory["edit_boxes"] = bytes_of(boxes);
-    result.memory["edit_bvh"] = bytes_of(nodes);
-    result.memory["intersect_lists"] = bytes_of(isect);
-    result.memory["hit"] = static_cast<std::uint64_t>(pixels) * sizeof(cl_float4);
-    result.memory["aux"] = static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2);
-    result.memory["counters"] = static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2);
+    result.memory = {{"camera", sizeof(SdfCamera)},
+                     {"instances", bytes_of(instances)},
+                     {"geometries", bytes_of(packed.records)},
+                     {"edits", bytes_of(packed.edits)},
+                     {"edit_boxes", bytes_of(packed.boxes)},
+                     {"edit_bvh", bytes_of(packed.nodes)},
+                     {"intersect_lists", bytes_of(packed.isect)},
+                     {"hit", static_cast<std::uint64_t>(pixels) * sizeof(cl_float4)},
+                     {"aux", static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2)},
+                     {"counters", static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2)}};
 
     ocl::set_args(kernel_.get(), camera_buf, instance_buf, static_cast<cl_uint>(instances.size()), geometry_buf,
                   edit_buf, box_buf, node_buf, isect_buf, static_cast<cl_uint>(settings.max_steps),
@@ -254,18 +277,11 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
     const measure::Launch& launch = scheduler.resolve().front();
     result.device_ms = launch.device_ms;
     result.queue_ms = launch.queue_ms;
-
     hit_buf.read_into(result.image.hit);
     aux_buf.read_into(result.image.aux);
     std::vector<cl_uint2> counts(pixels);
     count_buf.read_into(counts);
-    for (std::size_t i = 0; i < pixels; ++i) {
-        result.march_steps += result.image.aux[i].s[0];
-        result.unconverged_pixels += (result.image.aux[i].s[1] & kRefFlagUnconverged) != 0;
-        result.hit_pixels += result.image.is_hit(i);
-        result.overflow_points += counts[i].s[0];
-        result.fallback_points += counts[i].s[1];
-    }
+    add_counters(result, counts);
     result.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

@@ -46,22 +46,19 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder&
     SceneBricks out = build_scene_bricks(bricks, scene, settings, scheduler);
     out.bvh = bvh.build(scene, out.builds, scheduler);
 
-    const std::size_t sample_count = static_cast<std::size_t>(settings.samples) * settings.samples * settings.samples;
-    const std::size_t brick_bytes = sample_count * construct::sample_bytes(settings.format);
+    const construct::BrickLayout layout = settings.layout();
+    const std::size_t brick_bytes = layout.brick_bytes();
     if (out.builds.size() != 1) {
         out.combined_pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device, out.bricks * brick_bytes);
     }
     std::vector<SdfBrickGeometry> table;
     std::uint64_t first = 0;
-    const double quant = settings.format == construct::BrickFormat::int8    ? 127.0
-                         : settings.format == construct::BrickFormat::int16 ? 32767.0
-                                                                        : 1.0;
     for (std::size_t g = 0; g < out.builds.size(); ++g) {
         const construct::GeometryBuild& b = out.builds[g];
         SdfBrickGeometry e{};
         e.voxel = static_cast<float>(settings.voxel());
         e.inv_voxel = static_cast<float>(1.0 / settings.voxel());
-        e.dequant = quant == 1.0 ? 1.0f : static_cast<float>(b.band / quant);
+        e.dequant = layout.dequantise_scale(b.band);
         e.root = out.bvh.roots[g];
         e.brick_offset = static_cast<sdf_u32>(first);
         table.push_back(e);
@@ -113,10 +110,8 @@ BrickTracer::BrickTracer(ocl::Device& device) : device_(device) {}
 BrickTracer::~BrickTracer() = default;
 
 BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, const TraceSettings& t) {
-    const int format = b.format == construct::BrickFormat::int8 ? 0 : b.format == construct::BrickFormat::int16 ? 1 : 2;
-    const std::string options =
-        fmt::format("-DSAMPLES={} -DAPRON={} -DFORMAT={} -DMETHOD={} -DNORMALS={}", b.samples, b.apron(), format,
-                    t.method == Method::sphere ? 0 : 1, static_cast<int>(t.normals));
+    const std::string options = fmt::format("{} -DMETHOD={} -DNORMALS={}", b.layout().defines(),
+                                            t.method == Method::sphere ? 0 : 1, static_cast<int>(t.normals));
     auto& k = cache_[options];
     if (!k) k = std::make_unique<Kernels>(device_, options);
     return *k;

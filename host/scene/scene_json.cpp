@@ -140,8 +140,7 @@ Animation read_animation(const Node& n) {
     return a;
 }
 
-Edit read_edit(const Node& n) {
-    if (!n.value().is_object()) n.fail("expected an edit object");
+Primitive read_primitive(const Node& n) {
     const Node prim_node = n["primitive"];
     const std::string prim_name = prim_node.string();
     const auto prim = primitive_from_string(prim_name);
@@ -151,17 +150,20 @@ Edit read_edit(const Node& n) {
             names += (i ? ", " : "") + std::string(to_string(static_cast<Primitive>(i)));
         prim_node.fail(fmt::format("unknown primitive \"{}\" (known: {})", prim_name, names));
     }
-    Edit e;
-    e.primitive = *prim;
-    auto& p = e.params;
+    return *prim;
+}
+
+// The primitive's own fields (and no unknown key): its parameters, as kernels/sdf_types.h orders them.
+std::array<double, 4> read_params(const Node& n, Primitive prim) {
     const std::initializer_list<std::string_view> common = {"primitive", "position", "rotation", "scale",
                                                             "op", "blend", "animation"};
     auto allow = [&](std::initializer_list<std::string_view> own) {
         std::vector<std::string_view> all(common);
         all.insert(all.end(), own);
-        n.expect_keys(all, "a " + prim_name);
+        n.expect_keys(all, "a " + std::string(to_string(prim)));
     };
-    switch (e.primitive) {
+    std::array<double, 4> p{};
+    switch (prim) {
         case Primitive::Sphere:
             allow({"radius"});
             p[0] = n["radius"].positive();
@@ -215,6 +217,14 @@ Edit read_edit(const Node& n) {
             p[1] = n.has("iterations") ? n["iterations"].integer(1, 6) : 3;
             break;
     }
+    return p;
+}
+
+Edit read_edit(const Node& n) {
+    if (!n.value().is_object()) n.fail("expected an edit object");
+    Edit e;
+    e.primitive = read_primitive(n);
+    e.params = read_params(n, e.primitive);
     read_transform_fields(n, e.transform);
     if (n.has("op")) {
         const Node o = n["op"];

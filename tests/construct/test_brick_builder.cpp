@@ -121,7 +121,7 @@ void check_against_reference(const Geometry& g, const BuildSettings& s) {
     EXPECT_LE(leaves.size(), cells.size() + cells.size() / 50 + 8);
 
     const std::vector<std::uint8_t> pool = b.pool->read();
-    const int n = s.samples, a = s.apron(), interior = s.interior();
+    const int n = s.samples, a = s.layout().apron(), interior = s.layout().interior();
     const auto voxel = static_cast<float>(s.voxel());
     const double step = s.format == BrickFormat::int8    ? b.band / 127.0
                         : s.format == BrickFormat::int16 ? b.band / 32767.0
