@@ -1,6 +1,6 @@
 // The measured pipeline on one device: construction -> bvh -> trace (-> shade), run W warm-up times
-// and then N captures (DESIGN.md section 5). Used by `render`, `sweep` and `tune`; the builders and
-// the tracer (and so their compiled programs) live as long as the Pipeline.
+// and then N captures (docs/design.md#the-run-loop). Used by `render`, `sweep` and `tune`; the
+// builders and the tracer (and so their compiled programs) live as long as the Pipeline.
 #pragma once
 
 #include <optional>
