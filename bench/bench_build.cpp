@@ -1,4 +1,4 @@
-// Sparse brick construction (host/build/brick_builder.h): the five shipped scenes x leaf brick sizes
+// Sparse brick construction (host/construct/brick_builder.h): the five shipped scenes x leaf brick sizes
 // 0.5, 0.25, 0.125, 0.0625 x culling on/off. Manual time = the device time of the whole
 // construction (every stage's kernels, from OpenCL profiling events). Counters: leaf bricks,
 // bricks/s, edit evaluations/s, edits per leaf brick (mean), and each stage's share in ms.

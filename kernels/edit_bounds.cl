@@ -1,8 +1,8 @@
 /* edit_bounds.cl: per edit, the axis-aligned boxes (geometry frame) of its solid {value <= 0} and of
  * its influence region {value <= blend}, where value = primitive(local(p)) * scale * inv_lipschitz
- * (sdf_edit.h). host/build/edit_deps.cpp drives it; host/scene/scene.cpp holds the same formulas in
- * double precision (local_level_bounds, Transform::apply), and tests/test_edit_deps.cpp checks that
- * every box here contains the host's.
+ * (sdf_edit.h). host/construct/edit_deps.cpp drives it; host/scene/scene.cpp holds the same formulas
+ * in double precision (local_level_bounds, Transform::apply), and tests/construct/test_edit_deps.cpp
+ * checks that every box here contains the host's.
  *
  * Conservative: each box is grown by EDIT_BOUNDS_PAD of the magnitude of its inputs (|translation|
  * plus the scaled local half extents summed over the axes) on every side. That covers the rounding of

@@ -1,6 +1,6 @@
-/* edit_deps.cl: dependencies between edits (DESIGN.md section 2, stage 1). A smooth edit j
- * (blend > 0) depends on every earlier edit i < j whose influence box overlaps j's (closed boxes:
- * touching counts). host/build/edit_deps.cpp drives the kernels:
+/* edit_deps.cl: dependencies between edits (stage "dependencies", docs/construction.md). A smooth
+ * edit j (blend > 0) depends on every earlier edit i < j whose influence box overlaps j's (closed
+ * boxes: touching counts). host/construct/edit_deps.cpp drives the kernels:
  *
  *   grid_stats   per work-group: union of the finite box coordinates, sum of the box extents
  *   grid_refs    per work-group: how many grid cells the boxes cover (to cap the grid's memory)

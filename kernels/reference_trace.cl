@@ -1,6 +1,6 @@
 /* reference_trace.cl: the device reference tracer. Sphere traces the ANALYTIC edit lists (no bricks)
  * for every pixel; every accuracy figure of the brick tracer is measured against its output.
- * host/render/reference_render.{h,cpp} builds the inputs and documents the method; in short:
+ * host/reference/device_tracer.{h,cpp} builds the inputs; docs/reference.md documents the method. In short:
  *
  * The field. The tracer finds the zero set of F, the exact (unclamped, unculled) edit fold of
  * sdf_edit.h starting from SDF_FAR, the same F as eval_points.cl and the host reference. At a point
@@ -25,7 +25,7 @@
 #include "sdf_edit.h"
 #include "sdf_camera.h"
 
-/* Per geometry (mirrored by RefGeometry in host/render/reference_render.cpp, static_assert on size). */
+/* Per geometry (mirrored by RefGeometry in host/reference/device_tracer.cpp, static_assert on size). */
 typedef struct RefGeometry {
     float clip_lo[3];   /* the ray is traced where it is inside this box (holds the solid) */
     float clip_hi[3];

@@ -1,4 +1,4 @@
-/* scan.cl: exclusive prefix sum of uint values, any length (host/build/scan.h drives it).
+/* scan.cl: exclusive prefix sum of uint values, any length (host/construct/scan.h drives it).
  * Pass 1 (scan_blocks): each work-group scans a block of ITEMS * get_local_size(0) values, writes
  * the exclusive result and the block's total. The block totals are scanned the same way (recursion
  * on the host) and pass 2 (scan_add) adds each block's offset. Integer sums: the order of additions

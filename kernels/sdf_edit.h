@@ -1,6 +1,6 @@
 /* sdf_edit.h: evaluation of edits and edit lists, shared by every kernel that reads the field.
  *
- * Determinism (DESIGN.md section 4): only + - * / sqrt fabs fmin fmax floor, with FP_CONTRACT OFF
+ * Determinism (docs/design.md#determinism): only + - * / sqrt fabs fmin fmax floor, with FP_CONTRACT OFF
  * (the program builder puts the pragma first) and correctly rounded divide/sqrt where the device
  * supports it. No built-in dot/length/normalize/distance/mix: their rounding and fusing are not
  * specified, so the sums are written out here in a fixed order.

@@ -1,4 +1,4 @@
-/* sdf_trace.h: rays through the two-level BVH of bricks (DESIGN.md section 3), shared by the primary
+/* sdf_trace.h: rays through the two-level BVH of bricks (docs/tracing.md), shared by the primary
  * tracer and the shading kernel's secondary rays.
  *
  * Compile-time: SAMPLES (8 or 10), APRON (1 or 2), FORMAT (0 int8, 1 int16, 2 float), METHOD (0 sphere

@@ -1,6 +1,6 @@
 /* sdf_types.h: the plain structs shared by the host (C++) and the kernels (OpenCL C 1.2).
  *
- * Rules that keep the two sides identical (tests/test_layout.cpp checks sizes and every offset on
+ * Rules that keep the two sides identical (tests/kernels/test_layout.cpp checks sizes and every offset on
  * the host and on the device):
  *   - only 4-byte scalars (float, uint, int) and arrays of them; no vector types (float3 is 16
  *     bytes in OpenCL C and 12 in C++), no pointers, no bool, no size_t;
@@ -95,7 +95,7 @@ typedef struct SdfBrick {
 /* A pinhole camera: the ray through pixel (x, y) (x right, y down, centres at +0.5) has direction
  * normalize(forward + u * right + v * up), u = 2 (x + 0.5) / width - 1, v = 1 - 2 (y + 0.5) / height;
  * right and up are pre-scaled by tan(fov / 2) (right also by width / height). kernels/sdf_camera.h
- * evaluates it; host/render/camera.h fills it from the scene's camera. */
+ * evaluates it; host/scene/to_device.h (make_camera) fills it from the scene's camera. */
 typedef struct SdfCamera {
     sdf_f32 eye[3];
     sdf_f32 forward[3];

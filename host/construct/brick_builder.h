@@ -1,7 +1,7 @@
-// Sparse brick construction on the device (DESIGN.md section 2, issue 3): per geometry, top-down
-// levels of count -> scan -> subdivide -> cull, then evaluate the leaf bricks into the brick pool and
-// their AABBs. Every launch goes through a measure::Scheduler; docs/construction.md explains the stages, the
-// band-limited field that makes culling exact, and every margin used below.
+// Sparse brick construction on the device: per geometry, top-down levels of count -> scan ->
+// subdivide -> cull, then evaluate the leaf bricks into the brick pool and their AABBs. Every launch
+// goes through a measure::Scheduler; docs/construction.md explains the stages, the band-limited field
+// that makes culling exact, and every margin used below.
 #pragma once
 
 #include <CL/cl.h>

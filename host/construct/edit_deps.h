@@ -1,4 +1,4 @@
-// Construction stage 1 on the device (DESIGN.md section 2): per edit, the box of its solid and of its
+// Construction stage 1 on the device (docs/construction.md): per edit, the box of its solid and of its
 // influence region; then the dependencies of the smooth edits as CSR lists. A smooth edit j
 // (blend > 0) depends on every earlier edit i < j whose influence box overlaps j's (closed boxes).
 // No n x n work: a uniform grid over the influence boxes (kernels/edit_deps.cl describes it).

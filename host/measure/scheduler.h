@@ -1,4 +1,4 @@
-// The host scheduler (DESIGN.md section 5): every kernel launch of the engine goes through
+// The host scheduler (docs/measurement.md): every kernel launch of the engine goes through
 // Scheduler::launch, which enqueues it, names it by stage and level, and records its global and local
 // sizes, the kernel's resource attributes at launch time (local memory includes the __local
 // arguments then set), and, once resolved, its profiling times.

@@ -1,4 +1,4 @@
-// Repeat statistics (DESIGN.md section 5): a command's measured work runs W warm-up times, then N
+// Repeat statistics (docs/measurement.md): a command's measured work runs W warm-up times, then N
 // captures; each capture is the list of its launches. Per stage: median, min, max and coefficient
 // of variation over the captures. Per kernel: launches, total time, share, mean/min/max per launch,
 // and the attributes and occupancy of its largest launch.

@@ -1,5 +1,5 @@
 // Accuracy of a traced image against a reference image (the device reference tracer or the host
-// double-precision one, reference/reference_tracer.h), and the pictures that show it.
+// double-precision one, reference/device_tracer.h, reference/host_tracer.h), and the pictures that show it.
 //
 // Conventions of compare():
 //   - The two buffers must have the same width and height; `reference` is a reference tracer's output:

@@ -1,41 +1,21 @@
-// The double-precision host reference tracer: sphere tracing of the scene's exact field
+// The double-precision host reference tracer: sphere traces the scene's exact field
 // (reference::evaluate(const Scene&, p): every edit of every object, no culling, no bricks) for small
-// images. It is the yardstick of the device reference tracer and of the brick tracer
-// (DESIGN.md section 3, "Reference tracer"); it is slow (every step evaluates the whole scene) and
-// meant for images of a few thousand pixels on scenes of a few edits.
+// images. It is the yardstick of the device reference tracer and of the brick tracer; it is slow
+// (every step evaluates the whole scene) and meant for images of a few thousand pixels on scenes of
+// a few edits. docs/reference.md#host-reference-tracer gives the method step by step.
 //
-// Rays: exactly the pinhole model of kernels/sdf_camera.h, in double. With the camera basis of
-// make_camera (forward = normalize(target - eye); right = normalize(cross(forward, up_hint)),
-// up_hint = +y for an orbit camera, Camera::up for look_at, cross(forward, +z) when looking straight
-// along the hint; up = cross(right, forward)) the ray through the centre of pixel (x, y) is
-//     u = 2 (x + 0.5) / W - 1,  v = 1 - 2 (y + 0.5) / H,
-//     dir = normalize(forward + u * right * tan(fov/2) * W/H + v * up * tan(fov/2)),
-// starting at the eye. Only the rounding differs from the device (double here, float there).
-//
-// Per ray (HostTracer::trace):
-//   1. Clip box: the union of bounds(scene, object) over the objects, grown on every side by
-//      1e-6 * (1 + extent). extent = the diagonal of the (ungrown) union; no object with bounds
-//      (no objects, or only subtract/intersect edits) -> every ray misses. A ray that misses the box
-//      is a miss with 0 steps. The march starts at the box entry, or at t = 0 when the eye is inside.
-//   2. Sphere tracing: p = eye + t dir, F = reference::evaluate(scene, p) (one step = one evaluation,
-//      counted in `steps`), t += F. The scene field is 1-Lipschitz (reference_field.h, scene.h), so a
-//      step never crosses the surface.
-//        - F <= 0 at the ray's first point: the ray starts inside the solid; hit at that t (depth 0
-//          for a camera inside the solid, the box entry otherwise), no refinement.
-//        - F <= eps: hit (then refined, 3.). eps = hit_epsilon * (1 + extent), world units.
-//        - t > box exit: miss.
-//        - `max_steps` evaluations without a decision: miss, flagged unconverged.
-//   3. Refinement to the zero crossing: from the last point a (F(a) = fa in (0, eps]) a probe b is
-//      placed past the surface using the field's slope along the ray, s = -dot(grad F, dir):
-//      b = a + 2 fa / s + eps (when s > 1e-3; a ray that grazes the surface is not refined). When
-//      F(b) <= 0 the bracket [a, b] is bisected until its width is below 1e-14 (1 + t) (at most 64
-//      halvings) and the hit is the secant root of the final bracket; otherwise the hit stays at a
-//      (the ray just touches the surface, within eps). On smooth surfaces at non-grazing incidence the
-//      depth is exact to ~1e-13 relative; in the worst case (grazing, no crossing) it is the first
-//      point within eps of the surface. Refinement evaluations are not counted in `steps`.
-//   4. Normal at the hit point: central differences of the scene field, step
-//      h = 1e-6 * (1 + extent) on each axis, normalised; when that gradient is zero or not finite
-//      the normal is -dir.
+// Contract:
+//   - Rays: the pinhole model of kernels/sdf_camera.h with make_camera's basis, in double (only the
+//     rounding differs from the device).
+//   - A ray is marched from the entry of the clip box (the objects' bounds, grown by
+//     1e-6 (1 + extent)), or from t = 0 when the eye is inside it. A first point with F <= 0 is a hit
+//     there (no refinement); F <= hit_epsilon (1 + extent) is a hit, refined to the zero crossing
+//     when the ray crosses the surface (depth exact to ~1e-13 relative on smooth surfaces at
+//     non-grazing incidence; else the first point within eps); past the box: a miss; max_steps
+//     evaluations: a miss flagged unconverged. HostHit::steps counts the march's evaluations only
+//     (not the refinement's or the normal's).
+//   - Normal: central differences with h = 1e-6 (1 + extent), normalised; -dir when that gradient is
+//     zero or not finite.
 #pragma once
 
 #include <cstdint>
@@ -95,7 +75,7 @@ private:
     double h_ = 0.0;
 };
 
-// The camera rays of a width x height image, in double (the header comment gives the formula).
+// The camera rays of a width x height image, in double (docs/reference.md#rays gives the formula).
 struct HostCamera {
     glm::dvec3 eye{0.0};
     glm::dvec3 forward{0.0, 0.0, -1.0};

@@ -1,4 +1,4 @@
-// Stages "trace" and "shade" (DESIGN.md section 3): the scene's bricks and BVH ready to trace, and the
+// Stages "trace" and "shade" (docs/tracing.md): the scene's bricks and BVH ready to trace, and the
 // brick ray tracer (kernels/trace.cl, kernels/shade.cl over kernels/sdf_trace.h).
 #pragma once
 

@@ -79,7 +79,8 @@ glm::dvec3 Camera::eye_position() const {
 double lipschitz(const Edit&) {
     // Every shipped formula is 1-Lipschitz (docs/scene-format.md, "Lipschitz bounds"): the exact
     // distances trivially; the ellipsoid's (|x/r| - 1) min(r) has gradient norm <= min(r)/min(r);
-    // the Menger sponge is a max of 1-Lipschitz terms. tests/test_reference.cpp checks it empirically.
+    // the Menger sponge is a max of 1-Lipschitz terms. tests/reference/test_reference_field.cpp
+    // checks it empirically.
     return 1.0;
 }
 

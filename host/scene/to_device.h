@@ -14,7 +14,7 @@ namespace sdfbrick {
 SdfEdit to_device(const Edit& e);
 std::vector<SdfEdit> to_device(const Geometry& g);
 
-// Largest image the tracers accept (DESIGN.md section 3: up to 3840 x 2160).
+// Largest image the tracers accept: 3840 x 2160.
 inline constexpr int kMaxWidth = 3840;
 inline constexpr int kMaxHeight = 2160;
 

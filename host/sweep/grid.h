@@ -1,5 +1,5 @@
-// The sweep grid (issue 5): scenes x brick sizes x chunk sizes x work-group sizes x trace work-groups
-// x culling x storage formats x samples (apron widths) x in-brick methods x normal methods x devices.
+// The sweep grid: scenes x brick sizes x chunk sizes x work-group sizes x trace work-groups x
+// culling x storage formats x samples (apron widths) x in-brick methods x normal methods x devices.
 // Pure data and functions: expansion, keys, sharding. docs/sweep.md describes the sweep file.
 #pragma once
 

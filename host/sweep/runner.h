@@ -1,5 +1,5 @@
-// Running sweep points, their resume cache, CSV/JSON output and merging shards (issue 5). Each point
-// runs the measured pipeline (render/pipeline.h) and, with accuracy on, the reference tracer with the
+// Running sweep points, their resume cache, CSV/JSON output and merging shards. Each point
+// runs the measured pipeline (pipeline/pipeline.h) and, with accuracy on, the reference tracer with the
 // same camera; its result is one flat row (the CSV columns, docs/sweep.md).
 #pragma once
 

@@ -1,6 +1,6 @@
-// The tuning database (issue 5): tuned launch parameters per device (name and driver) and kernel,
-// written by `sdfbrick tune`, read by every later run. Look-up falls back device -> vendor ->
-// built-in default, and says which one it used.
+// The tuning database: tuned launch parameters per device (name and driver) and kernel, written by
+// `sdfbrick tune`, read by every later run. Look-up falls back device -> vendor -> built-in
+// default, and says which one it used.
 //
 // File: $SDFBRICK_TUNING_DB, else $XDG_CONFIG_HOME/sdfbrick/tuning.json, else
 // $HOME/.config/sdfbrick/tuning.json ("off" disables it). Format (docs/tuning.md):

@@ -1,4 +1,4 @@
-// Sparse brick construction (host/build/brick_builder.h on the test device) against the
+// Sparse brick construction (host/construct/brick_builder.h on the test device) against the
 // double-precision host reference (host/reference/): no surface cell without a brick, every stored
 // sample within one quantisation step of the reference, and the determinism contract: culling on and
 // off, dependencies on and off, repeated runs, and branching 2 and 4 all give bit-identical outputs.

@@ -1,4 +1,4 @@
-// Construction stage 1 (host/build/edit_deps.h, kernels/edit_bounds.cl, kernels/edit_deps.cl):
+// Construction stage 1 (host/construct/edit_deps.h, kernels/edit_bounds.cl, kernels/edit_deps.cl):
 //  - the device's float boxes contain the host's double-precision boxes (scene.cpp) for every
 //    primitive, rotated and scaled, and are not much larger;
 //  - the dependency lists equal a brute-force O(n^2) computation made from the device's own boxes

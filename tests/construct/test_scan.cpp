@@ -1,4 +1,4 @@
-// The device exclusive prefix sum (host/build/scan.h, kernels/scan.cl) against std::exclusive_scan:
+// The device exclusive prefix sum (host/construct/scan.h, kernels/scan.cl) against std::exclusive_scan:
 // lengths around the block size (4 * local size values per work-group), a multi-level length, in
 // place, and the 2^32 overflow checks.
 #include <cstdint>

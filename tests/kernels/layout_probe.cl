@@ -1,5 +1,5 @@
 /* layout_probe.cl: reports sizeof and field offsets of the shared structs as the device compiler
- * lays them out, for tests/test_layout.cpp to compare with the host's. The offsets are measured on
+ * lays them out, for tests/kernels/test_layout.cpp to compare with the host's. The offsets are measured on
  * a real object in global memory (no offsetof in OpenCL C 1.2). Order of the entries: see the test. */
 #include "sdf_types.h"
 

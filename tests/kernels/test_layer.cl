@@ -1,4 +1,4 @@
-/* test_layer.cl: small kernels for the device layer's own tests (tests/test_device_layer.cpp). */
+/* test_layer.cl: small kernels for the device layer's own tests (tests/cl/test_device_layer.cpp). */
 
 /* out[i] = in[i] * a + b for i < n. */
 __kernel void scale_add(__global const float* in, __global float* out, float a, float b, uint n) {

@@ -1,4 +1,4 @@
-// Tests of the accuracy metrics and images (host/render/accuracy.h) on small hand-made buffers whose
+// Tests of the accuracy metrics and images (host/reference/accuracy.h) on small hand-made buffers whose
 // answers are worked out by hand.
 #include <gtest/gtest.h>
 

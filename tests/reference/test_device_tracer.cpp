@@ -1,5 +1,5 @@
-// The device reference tracer (host/render/reference_render.h, kernels/reference_trace.cl) and its
-// edit BVH (host/render/edit_bvh.h), on the test device (PoCL in CI). Small images (at most 49 x 33)
+// The device reference tracer (host/reference/device_tracer.h, kernels/reference_trace.cl) and its
+// edit BVH (host/reference/edit_bvh.h), on the test device (PoCL in CI). Small images (at most 49 x 33)
 // keep the suite fast on a CPU.
 //
 // Tolerances:
@@ -80,7 +80,8 @@ Scene single_geometry_scene(Geometry g, Camera cam) {
     return s;
 }
 
-// Every primitive and every combine rule, hard and smooth, rotated and scaled (as tests/test_build.cpp's).
+// Every primitive and every combine rule, hard and smooth, rotated and scaled (as
+// tests/construct/test_brick_builder.cpp's).
 Geometry mixed_geometry() {
     const glm::dquat rot = glm::dquat(0.9, 0.2, -0.3, 0.25);
     Geometry g;
@@ -359,7 +360,7 @@ TEST(ReferenceDeviceTracer, SpheresSceneHasHitsAndMisses) {
     EXPECT_GT(r.geometries[0].clamp_c, 1.0);  // 2 k_max + extent / 64, k_max = 0.5
 }
 
-// The double-precision host tracer (host/reference/reference_tracer.h) on the same scene and camera:
+// The double-precision host tracer (host/reference/host_tracer.h) on the same scene and camera:
 // an independent implementation (double, every edit, no culling), rays from the double camera. Near a
 // silhouette the float and double rays may fall on either side; elsewhere the depth agrees to the
 // float noise (~1e-7 relative, tolerance 1e-5) and the normals to the float tolerance of the device

@@ -1,4 +1,4 @@
-// Tests of the double-precision host reference tracer (host/reference/reference_tracer.h): analytic
+// Tests of the double-precision host reference tracer (host/reference/host_tracer.h): analytic
 // sphere depths and normals, misses, a camera inside the solid, grazing rays, the iteration limit,
 // the camera rays against the kernel formula, and an image of scenes/spheres.json.
 #include <gtest/gtest.h>
