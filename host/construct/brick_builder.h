@@ -47,7 +47,7 @@ struct BuildSettings {
     int apron() const { return samples == 10 ? 2 : 1; }
     int interior() const { return samples - 2 * apron(); }  // 6 in both layouts
     double voxel() const { return leaf_size / interior(); }
-    // Throws InputError naming the option ("--chunk") for a value out of range.
+    // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
 };
 
