@@ -192,8 +192,8 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     }
     const cl_uint flag = flags.read()[0];
     if (flag & kFlagTooLarge)
-        throw InputError("a brick coordinate needs more than the 21 bits per axis of the BVH's Morton keys: use fewer "
-                         "--levels or a larger --brick-size");
+        throw SettingError("leaf_size", "a brick coordinate needs more than the 21 bits per axis of the BVH's Morton "
+                                        "keys: use a larger leaf_size or fewer levels");
     if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
     const std::vector<SdfBounds> boxes = root_boxes.read();
     out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));

@@ -41,7 +41,7 @@ std::optional<KernelDir> current_kernel_dir() {
     {
         const std::lock_guard lock(kernel_dir_mutex);
         if (kernel_dir_override) {
-            return KernelDir{*kernel_dir_override, "set_kernel_dir (--kernel-dir)"};
+            return KernelDir{*kernel_dir_override, "set_kernel_dir"};
         }
     }
     const char* env = std::getenv(kKernelDirEnv);
@@ -76,8 +76,8 @@ std::string read_kernel_file(std::string_view file, std::string_view included_fr
     }
     if (const auto extra = find_extra(file)) return std::string(*extra);
     throw std::runtime_error(fmt::format(
-        "kernel source '{}'{} not found among the kernels embedded in this build ({}); set {} or "
-        "--kernel-dir to read kernels from a directory",
+        "kernel source '{}'{} not found among the kernels embedded in this build ({}); set {} or call "
+        "set_kernel_dir to read kernels from a directory",
         file, who, fmt::join(names, ", "), kKernelDirEnv));
 }
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "cli/commands.h"
 #include "core/errors.h"
 
 namespace sdfbrick::cli {
@@ -19,6 +20,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
     group_ = cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation (default: tuned for the device, else 128)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
+    add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
+                            {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
+                            {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"}});
 }
 
 construct::BuildSettings BuildFlags::resolve() const {

@@ -310,6 +310,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
     o->measure.add_to(cmd, "build, BVH and trace");
     auto* gx = cmd->add_option("--group-x", o->trace.group_x, "trace work-group width (default: tuned for the device, else 16)");
     auto* gy = cmd->add_option("--group-y", o->trace.group_y, "trace work-group height (default: tuned for the device, else 8)");
+    add_setting_flags(cmd, {{"width", "--width"}, {"height", "--height"}, {"group_x", "--group-x"}, {"group_y", "--group-y"}});
 
     cmd->add_option("--shadow-rays", o->trace.shadow_rays, "shaded mode: shadow rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
     cmd->add_option("--ao-rays", o->trace.ao_rays, "shaded mode: ambient occlusion rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();

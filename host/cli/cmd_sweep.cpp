@@ -142,6 +142,7 @@ void add_sweep_commands(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", o->out, "output prefix: PREFIX.csv, PREFIX.json")->capture_default_str();
     cmd->add_option("--cache", o->cache, "finished-points cache for resuming (default PREFIX.cache.jsonl)");
     cmd->add_option("--shard", o->shard, "run shard i of n (i/n, 0-based): every n-th grid point from i");
+    add_setting_flags(cmd, {{"shard", "--shard"}});
     cmd->callback([o, &global] { run_sweep(*o, global); });
 
     auto files = std::make_shared<std::vector<std::string>>();

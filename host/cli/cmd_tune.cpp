@@ -221,6 +221,7 @@ void add_tune_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--height", o->height, "trace image height")->capture_default_str();
     cmd->add_option("--seed", o->seed, "seed of the random and anneal strategies")->capture_default_str();
     cmd->add_option("--json", o->json, "write a JSON report (every configuration measured) here");
+    add_setting_flags(cmd, {{"strategy", "--strategy"}, {"width", "--width"}, {"height", "--height"}});
     cmd->callback([o, &global] { run_tune(*o, global); });
 }
 

@@ -2,11 +2,14 @@
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
+#include "core/errors.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick::cli {
@@ -30,6 +33,14 @@ struct TuningChoice {
     const tune::TuningDb* get() const { return db ? &*db : nullptr; }
 };
 TuningChoice open_tuning(const GlobalOptions& global);
+
+// The table of which flag of a verb sets each library setting (the name SettingError::setting()
+// gives, e.g. "chunk" -> "--chunk"). BuildFlags::add_to adds the build settings' flags; the verbs
+// add theirs.
+void add_setting_flags(const CLI::App* verb, std::initializer_list<std::pair<const char*, const char*>> setting_flags);
+// The one-line message for a SettingError raised by the verb that ran (a parsed subcommand of app):
+// "FLAG: message" when that verb has a flag for the setting, else the message as it is.
+std::string setting_error_line(const CLI::App& app, const SettingError& e);
 
 void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_scene_commands(CLI::App& app, const GlobalOptions& global);

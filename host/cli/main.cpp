@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "sdfbrick: %s\n", e.what());
         std::fprintf(stderr, "Run with --help for usage.\n");
         return 2;
+    } catch (const SettingError& e) {
+        std::fprintf(stderr, "sdfbrick: %s\n", cli::setting_error_line(app, e).c_str());
+        return 2;
     } catch (const InputError& e) {
         std::fprintf(stderr, "sdfbrick: %s\n", e.what());
         return 2;

@@ -1,8 +1,39 @@
-// Options every verb shares (commands.h).
+// Options every verb shares, and the table of which flag sets each setting (commands.h).
+#include <map>
+
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
 
 namespace sdfbrick::cli {
+
+namespace {
+
+// verb -> library setting -> flag
+std::map<const CLI::App*, std::map<std::string, std::string>>& setting_flag_table() {
+    static std::map<const CLI::App*, std::map<std::string, std::string>> table;
+    return table;
+}
+
+const std::string* flag_of(const CLI::App& app, const std::string& setting) {
+    for (const CLI::App* verb : app.get_subcommands()) {
+        const auto& table = setting_flag_table();
+        if (const auto it = table.find(verb); it != table.end())
+            if (const auto flag = it->second.find(setting); flag != it->second.end()) return &flag->second;
+        if (const std::string* flag = flag_of(*verb, setting)) return flag;  // scene info, ...
+    }
+    return nullptr;
+}
+
+}  // namespace
+
+void add_setting_flags(const CLI::App* verb, std::initializer_list<std::pair<const char*, const char*>> setting_flags) {
+    for (const auto& [setting, flag] : setting_flags) setting_flag_table()[verb][setting] = flag;
+}
+
+std::string setting_error_line(const CLI::App& app, const SettingError& e) {
+    const std::string* flag = flag_of(app, e.setting());
+    return flag ? *flag + ": " + e.what() : std::string(e.what());
+}
 
 void apply_global_options(const GlobalOptions& global) {
     if (global.kernel_dir) ocl::set_kernel_dir(std::filesystem::path(*global.kernel_dir));

@@ -21,23 +21,25 @@ namespace sdfbrick::construct {
 
 void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (!(leaf_size > 0.0) || !std::isfinite(leaf_size))
-        throw InputError(fmt::format("--brick-size must be a positive number, got {}", leaf_size));
-    if (branching != 2 && branching != 4) throw InputError(fmt::format("--branching must be 2 or 4, got {}", branching));
-    if (samples != 8 && samples != 10) throw InputError(fmt::format("--samples must be 8 or 10, got {}", samples));
-    if (levels < 0 || levels > 31) throw InputError(fmt::format("--levels must lie in 1..31 (0 = automatic), got {}", levels));
-    if (chunk < 16 || chunk > 256) throw InputError(fmt::format("--chunk must lie in 16..256, got {}", chunk));
+        throw SettingError("leaf_size", fmt::format("leaf_size must be a positive number, got {}", leaf_size));
+    if (branching != 2 && branching != 4)
+        throw SettingError("branching", fmt::format("branching must be 2 or 4, got {}", branching));
+    if (samples != 8 && samples != 10) throw SettingError("samples", fmt::format("samples must be 8 or 10, got {}", samples));
+    if (levels < 0 || levels > 31)
+        throw SettingError("levels", fmt::format("levels must lie in 1..31 (0 = automatic), got {}", levels));
+    if (chunk < 16 || chunk > 256) throw SettingError("chunk", fmt::format("chunk must lie in 16..256, got {}", chunk));
     if (eval_group < 1 || eval_group > 1024 || (eval_group & (eval_group - 1)) != 0)
-        throw InputError(fmt::format("--group must be a power of two in 1..1024, got {}", eval_group));
+        throw SettingError("eval_group", fmt::format("eval_group must be a power of two in 1..1024, got {}", eval_group));
     if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
-        throw InputError(fmt::format("--group {} is larger than the {} work-items per work-group {} allows", eval_group,
-                                     device.max_work_group_size, device.name));
+        throw SettingError("eval_group", fmt::format("eval_group {} is larger than the {} work-items per work-group {} "
+                                                     "allows", eval_group, device.max_work_group_size, device.name));
     if (!(band_voxels > 0.0) || band_voxels > 64.0)
-        throw InputError(fmt::format("--band must lie in (0, 64] voxels, got {}", band_voxels));
-    if (!(guard >= 0.0) || guard > 64.0) throw InputError(fmt::format("--guard must lie in [0, 64], got {}", guard));
+        throw SettingError("band_voxels", fmt::format("band_voxels must lie in (0, 64], got {}", band_voxels));
+    if (!(guard >= 0.0) || guard > 64.0) throw SettingError("guard", fmt::format("guard must lie in [0, 64], got {}", guard));
     const std::uint64_t local = static_cast<std::uint64_t>(chunk) * sizeof(SdfEdit) + 64 * sizeof(cl_uint);
     if (local > device.local_mem_bytes)
-        throw InputError(fmt::format("--chunk {} needs {} bytes of local memory; {} has {}", chunk, local, device.name,
-                                     device.local_mem_bytes));
+        throw SettingError("chunk", fmt::format("chunk {} needs {} bytes of local memory; {} has {}", chunk, local,
+                                                device.name, device.local_mem_bytes));
 }
 
 struct BrickBuilder::Programs {
@@ -71,11 +73,12 @@ ocl::Buffer<T> allocate(ocl::Device& d, std::size_t count, std::string_view what
     try {
         return ocl::Buffer<T>(d, count);
     } catch (const ocl::ClError& e) {
-        throw InputError(fmt::format("{} needs {} bytes ({} x {} bytes); {} allows at most {} bytes in one buffer and "
-                                     "has {} bytes in all: use a larger --brick-size, fewer --samples or a smaller "
-                                     "--format ({})",
-                                     what, count * sizeof(T), count, sizeof(T), d.info().name, d.info().max_alloc_bytes,
-                                     d.info().global_mem_bytes, e.what()));
+        throw SettingError("leaf_size",
+                           fmt::format("{} needs {} bytes ({} x {} bytes); {} allows at most {} bytes in one buffer and "
+                                       "has {} bytes in all: use a larger leaf_size, fewer samples or a smaller "
+                                       "format ({})",
+                                       what, count * sizeof(T), count, sizeof(T), d.info().name,
+                                       d.info().max_alloc_bytes, d.info().global_mem_bytes, e.what()));
     }
 }
 
@@ -121,12 +124,12 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     p.domain = make_domain(box, s.leaf_size, s.branching);
     if (s.levels > 0) {
         if (s.levels < p.domain.levels)
-            throw InputError(fmt::format("--levels {} cannot cover geometry \"{}\" at brick size {}: it needs at least {}",
-                                         s.levels, g.name, s.leaf_size, p.domain.levels));
+            throw SettingError("levels", fmt::format("levels {} cannot cover geometry \"{}\" at leaf_size {}: it needs "
+                                                     "at least {}", s.levels, g.name, s.leaf_size, p.domain.levels));
         const int bits_per_level = s.branching == 4 ? 2 : 1;
         if ((s.levels - 1) * bits_per_level > 30)
-            throw InputError(fmt::format("--levels {} with branching {} exceeds 2^30 leaf bricks per axis", s.levels,
-                                         s.branching));
+            throw SettingError("levels", fmt::format("levels {} with branching {} exceeds 2^30 leaf bricks per axis",
+                                                     s.levels, s.branching));
         p.domain.levels = s.levels;
     }
     p.log2b = s.branching == 4 ? 2 : 1;
@@ -243,10 +246,10 @@ std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     const double projected = static_cast<double>(children) * std::pow(double(s_.branching), 2.0 * remaining);
     const double pool_projected = projected * double(s_.layout().brick_bytes());
     if (pool_projected > 4.0 * static_cast<double>(d_.info().max_alloc_bytes))
-        throw InputError(fmt::format(
-            "brick size {} is too small for geometry \"{}\" on {}: level {} already has {} bricks, which "
+        throw SettingError("leaf_size", fmt::format(
+            "leaf_size {} is too small for geometry \"{}\" on {}: level {} already has {} bricks, which "
             "projects to about {:.3g} leaf bricks and a brick pool of {:.3g} bytes; the device allocates at most "
-            "{} bytes at once: use a larger --brick-size",
+            "{} bytes at once: use a larger leaf_size",
             s_.leaf_size, g_.name, d_.info().name, level, children, projected, pool_projected,
             d_.info().max_alloc_bytes));
     return children;

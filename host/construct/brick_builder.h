@@ -42,7 +42,7 @@ struct BuildSettings {
 
     BrickLayout layout() const { return {samples, format}; }
     double voxel() const { return leaf_size / layout().interior(); }
-    // Throws InputError naming the option ("--chunk") for a value out of range.
+    // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
 };
 

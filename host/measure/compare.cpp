@@ -21,7 +21,7 @@ std::vector<Side> sides(const nlohmann::json& report, const char* which) {
         for (const auto& d : report["devices"])
             if (d.contains("stages")) out.push_back({d.contains("device") ? d["device"].value("name", "?") : "?", d["stages"]});
     if (out.empty() && report.contains("stages")) out.push_back({"", report["stages"]});
-    if (out.empty()) throw InputError(fmt::format("{}: no per-stage times (expected a build or render --json report)", which));
+    if (out.empty()) throw InputError(fmt::format("{}: no per-stage times (expected the JSON report of a build or render)", which));
     return out;
 }
 
@@ -97,7 +97,7 @@ std::string compare_text(const std::vector<StageDelta>& deltas) {
                          side(d.in_b, d.b_median, d.b_min, d.b_max), d.delta_ms(), 100.0 * d.delta_fraction(), mark);
     }
     s += fmt::format("{} stage(s) changed by more than the runs' own spread (their [min, max] ranges do not overlap); "
-                     "a report of one capture has no spread: use --repeat\n", flagged);
+                     "a report of one capture has no spread: repeat the captures\n", flagged);
     return s;
 }
 

@@ -51,8 +51,7 @@ void Scheduler::launch(Stage stage, int level, cl_kernel kernel, std::array<std:
     l.local = local;
     if (l.group_size() > l.attributes.work_group_size_limit)  // e.g. too many registers for the group
         throw InputError(fmt::format("a work-group of {} work-items is more than kernel {} allows on {} (at most {}, "
-                                     "CL_KERNEL_WORK_GROUP_SIZE): choose a smaller work-group (--group, "
-                                     "--group-x/--group-y)",
+                                     "CL_KERNEL_WORK_GROUP_SIZE): choose a smaller work-group for this kernel",
                                      l.group_size(), l.kernel, device_->info().name, l.attributes.work_group_size_limit));
     const auto start = std::chrono::steady_clock::now();
     events_.push_back(ocl::enqueue(*device_, kernel, l.kernel, global, local, dims));

@@ -27,7 +27,7 @@ FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::sp
     const std::uint64_t point_bytes = xyz.size() * sizeof(float);
     if (point_bytes > device_.info().max_alloc_bytes)
         throw InputError(fmt::format("{} points need {} bytes in one buffer; {} allocates at most {} bytes at once: "
-                                     "evaluate fewer points (a smaller --size)",
+                                     "evaluate fewer points (a lower slice resolution)",
                                      n, point_bytes, device_.info().name, device_.info().max_alloc_bytes));
     FieldEvalResult result;
     result.values.resize(n);

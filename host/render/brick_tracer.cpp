@@ -124,8 +124,9 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         throw std::invalid_argument("BrickTracer::render: the camera's size differs from the settings'");
     const std::size_t gx = static_cast<std::size_t>(settings.group_x), gy = static_cast<std::size_t>(settings.group_y);
     if (gx * gy == 0 || gx * gy > device_.info().max_work_group_size)
-        throw InputError(fmt::format("--group-x/--group-y: {} x {} is not a work-group size {} accepts (1..{})", gx, gy,
-                                     device_.info().name, device_.info().max_work_group_size));
+        throw SettingError("group_x", fmt::format("group_x x group_y = {} x {} is not a work-group size {} accepts "
+                                                  "(1..{} work-items)", gx, gy, device_.info().name,
+                                                  device_.info().max_work_group_size));
     Kernels& k = kernels(bricks.settings, settings);
     const std::size_t pixels = static_cast<std::size_t>(settings.width) * settings.height;
     ocl::Buffer<SdfCamera> cam(device_, std::span<const SdfCamera>(&camera, 1), CL_MEM_READ_ONLY);

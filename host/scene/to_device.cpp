@@ -35,10 +35,10 @@ std::vector<SdfEdit> to_device(const Geometry& g) {
 
 void validate_image_size(int width, int height) {
     if (width < 1 || width > kMaxWidth) {
-        throw InputError(fmt::format("--width: {} is outside 1..{}", width, kMaxWidth));
+        throw SettingError("width", fmt::format("width {} is outside 1..{}", width, kMaxWidth));
     }
     if (height < 1 || height > kMaxHeight) {
-        throw InputError(fmt::format("--height: {} is outside 1..{}", height, kMaxHeight));
+        throw SettingError("height", fmt::format("height {} is outside 1..{}", height, kMaxHeight));
     }
 }
 

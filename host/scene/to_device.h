@@ -18,7 +18,7 @@ std::vector<SdfEdit> to_device(const Geometry& g);
 inline constexpr int kMaxWidth = 3840;
 inline constexpr int kMaxHeight = 2160;
 
-// Throws InputError ("--width") for a size outside 1..kMax*.
+// Throws SettingError ("width" or "height") for a size outside 1..kMax*.
 void validate_image_size(int width, int height);
 
 // Camera basis computed in double, stored as floats (see SdfCamera).

@@ -52,7 +52,7 @@ std::pair<int, int> parse_group_2d(const std::string& text, const std::string& w
 }
 
 void SweepSpec::validate() const {
-    if (scenes.empty()) throw InputError("sweep: no scene given (\"scenes\" or --scenes)");
+    if (scenes.empty()) throw InputError("sweep: no scene given (\"scenes\" is empty)");
     check_each(brick_sizes, "brick_sizes", [](double v) { return std::isfinite(v) && v > 0.0; }, "positive numbers");
     check_each(chunks, "chunks", [](int v) { return v >= 16 && v <= 256; }, "values in 16..256");
     check_each(groups, "groups", [](int v) { return v >= 1 && v <= 1024 && (v & (v - 1)) == 0; }, "powers of two in 1..1024");
@@ -169,7 +169,7 @@ Shard parse_shard(const std::string& text) {
     };
     if (slash == std::string::npos || !parse(std::string_view(text).substr(0, slash), s.index) ||
         !parse(std::string_view(text).substr(slash + 1), s.count) || s.count == 0 || s.index >= s.count)
-        throw InputError(fmt::format("--shard must be i/n with 0 <= i < n (e.g. 0/4), got \"{}\"", text));
+        throw SettingError("shard", fmt::format("shard must be i/n with 0 <= i < n (e.g. 0/4), got \"{}\"", text));
     return s;
 }
 

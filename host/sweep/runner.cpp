@@ -140,6 +140,19 @@ Row run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& state, co
     return r;
 }
 
+// The sweep-file key that gave a point the value of a library setting (SettingError::setting()), or
+// "" when the value did not come from the sweep (a tuned or built-in default).
+std::string sweep_key(const SweepSpec& spec, const SweepPoint& p, const std::string& setting) {
+    if (setting == "leaf_size" && !spec.brick_sizes.empty()) return "brick_sizes";
+    if (setting == "chunk" && p.chunk) return "chunks";
+    if (setting == "eval_group" && p.group) return "groups";
+    if ((setting == "group_x" || setting == "group_y") && p.trace_group) return "trace_groups";
+    if (setting == "format" && !spec.formats.empty()) return "formats";
+    if (setting == "samples" && !spec.samples.empty()) return "samples";
+    if (setting == "width" || setting == "height") return setting;
+    return "";
+}
+
 // The parameter columns of a point, from the point itself (chunk, group and trace group say "auto"
 // until run_point records the values used).
 Row point_row(const SweepSpec& spec, const SweepPoint& p, const ocl::DeviceInfo* device, const std::string& key) {
@@ -286,6 +299,10 @@ std::vector<Row> run_points(const SweepSpec& spec, const std::vector<SweepPoint>
                 s = scenes.emplace(p.scene, scene_at(file_scene, file_scene.time)).first;
             }
             row.update(run_point(spec, p, device->second, s->second, tuning));
+        } catch (const SettingError& e) {  // a value the device or scene refuses: the row names its key
+            const std::string k = sweep_key(spec, p, e.setting());
+            row["status"] = "error";
+            row["error"] = k.empty() ? std::string(e.what()) : fmt::format("\"{}\": {}", k, e.what());
         } catch (const std::exception& e) {  // bad input or a device failure: recorded, the sweep goes on
             row["status"] = "error";
             row["error"] = e.what();

@@ -41,7 +41,7 @@ Strategy strategy_from_string(std::string_view s, const Space& space, std::size_
     if (s == "random") return Strategy::random;
     if (s == "anneal") return Strategy::anneal;
     if (s == "auto") return space.size() <= budget ? Strategy::full : Strategy::anneal;
-    throw InputError(fmt::format("--strategy must be auto, full, random or anneal, got \"{}\"", s));
+    throw SettingError("strategy", fmt::format("strategy must be auto, full, random or anneal, got \"{}\"", s));
 }
 
 SearchResult search(const Space& space, Strategy strategy, std::size_t budget, std::uint64_t seed,

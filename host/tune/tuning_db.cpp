@@ -41,7 +41,7 @@ TuningDb TuningDb::load(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return db;
     const auto bad = [&](const std::string& what) {
-        return InputError(fmt::format("tuning database {}: {} (fix or delete the file, or run with --no-tuning)",
+        return InputError(fmt::format("tuning database {}: {} (fix or delete the file, or run without the tuning database)",
                                       path.string(), what));
     };
     nlohmann::json j;

@@ -215,6 +215,30 @@ TEST(Cli, SweepShardsMerge) {
     EXPECT_NE(bad.err.find("chunks"), std::string::npos) << bad.err;
 }
 
+// A setting the library refuses: exit status 2 and one line that names the flag, then the message in
+// the library's terms (the setting's own name).
+TEST(Cli, RefusedSettingNamesItsFlag) {
+    const fs::path dir = test::temp_dir("cli_setting");
+    const std::string env = "SDFBRICK_DEVICE=" + test_device_spec() + " SDFBRICK_TUNING_DB=" + (dir / "tuning.json").string();
+    const std::string spheres = scene_path("spheres");
+    const std::pair<std::string, std::string> cases[] = {
+        {"build " + spheres + " --brick-size 0.5 --chunk 8", "sdfbrick: --chunk: chunk must lie in 16..256, got 8\n"},
+        {"render " + spheres + " --width 5000", "sdfbrick: --width: width 5000 is outside 1..3840\n"},
+        {"render " + spheres + " --brick-size 0.5 --width 32 --height 16 --group-x 4096 --group-y 4096",
+         "sdfbrick: --group-x: group_x x group_y = 4096 x 4096 is not a work-group size "},
+        {"sweep --scenes " + spheres + " --shard 4/4", "sdfbrick: --shard: shard must be i/n with 0 <= i < n (e.g. 0/4), got \"4/4\"\n"},
+        {"tune " + spheres + " --brick-size 0.5 --kernels evaluate --strategy genetic",
+         "sdfbrick: --strategy: strategy must be auto, full, random or anneal, got \"genetic\"\n"},
+    };
+    for (const auto& [args, expect] : cases) {
+        const CliRun r = sdfbrick(args, env);
+        EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+        EXPECT_EQ(r.err.rfind(expect, 0), 0u) << args << ": stderr was: " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": not one line: " << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "tuning.json")) << "a refused tune wrote the database";
+}
+
 // Every kind of bad input: exit status 2, one line on stderr naming the place, no output file.
 TEST(Cli, BadInputIsRefusedCleanly) {
     const fs::path dir = test::temp_dir("cli_bad");

@@ -279,5 +279,43 @@ TEST(ConstructBuild, RefusesWhatCannotBeBuilt) {
     EXPECT_THROW(builder().build(g, s, test::recorder()), InputError);
 }
 
+// A refused setting is named as the library names it (SettingError::setting()); the CLI and the sweep
+// put their flag or key in front, so the message itself names no flag.
+TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
+    BuildSettings s = settings(0.125);
+    s.chunk = 8;
+    try {
+        s.validate(test::device().info());
+        ADD_FAILURE() << "chunk 8 was accepted";
+    } catch (const SettingError& e) {
+        EXPECT_EQ(e.setting(), "chunk");
+        EXPECT_STREQ(e.what(), "chunk must lie in 16..256, got 8");
+    }
+    const auto refused = [](const BuildSettings& bad) -> std::string {
+        try {
+            builder().build(mixed_geometry(), bad);
+        } catch (const SettingError& e) {
+            EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
+            EXPECT_EQ(std::string(e.what()).rfind(e.setting(), 0), 0u) << e.what();
+            return e.setting();
+        }
+        return "(accepted)";
+    };
+    s = settings(std::nan(""));
+    EXPECT_EQ(refused(s), "leaf_size");
+    s = settings(0.125);
+    s.samples = 9;
+    EXPECT_EQ(refused(s), "samples");
+    s = settings(0.125);
+    s.eval_group = 96;
+    EXPECT_EQ(refused(s), "eval_group");
+    s = settings(0.125);
+    s.band_voxels = 0.0;
+    EXPECT_EQ(refused(s), "band_voxels");
+    s = settings(0.125);
+    s.levels = 2;  // too few to cover the geometry
+    EXPECT_EQ(refused(s), "levels");
+}
+
 }  // namespace
 }  // namespace sdfbrick

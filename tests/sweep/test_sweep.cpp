@@ -238,5 +238,29 @@ TEST(Sweep, RunsPointsOnTheDeviceAndResumes) {
     EXPECT_EQ(cached, 4u);
 }
 
+// A value the device refuses (a trace work-group larger than any device allows) makes that point a
+// row with status "error" whose text names the sweep key that gave the value; the sweep goes on.
+TEST(Sweep, RefusedValueNamesItsKey) {
+    sweep::SweepSpec s;
+    s.scenes = {std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json"};
+    s.brick_sizes = {0.5};
+    s.trace_groups = {"4096x4096", "8x8"};
+    s.width = 32;
+    s.height = 16;
+    s.warmup = 0;
+    s.repeat = 1;
+    s.accuracy = false;
+    ocl::DeviceSet devices = test::open_test_devices();
+    const auto points = sweep::expand(s, {sweep::device_labels(devices).front()});
+    const std::filesystem::path path = test::temp_dir("sweep-refused") / "cache.jsonl";
+    sweep::ResultCache cache(path);
+    const auto rows = sweep::run_points(s, points, devices, nullptr, cache, nullptr);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0]["status"], "error") << rows[0].dump();
+    const std::string error = rows[0].value("error", "");
+    EXPECT_EQ(error.rfind("\"trace_groups\": group_x x group_y = 4096 x 4096", 0), 0u) << error;
+    EXPECT_EQ(rows[1]["status"], "ok") << rows[1].dump();
+}
+
 }  // namespace
 }  // namespace sdfbrick
