@@ -293,7 +293,7 @@ TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
     }
     const auto refused = [](const BuildSettings& bad) -> std::string {
         try {
-            builder().build(mixed_geometry(), bad);
+            builder().build(mixed_geometry(), bad, test::recorder());
         } catch (const SettingError& e) {
             EXPECT_EQ(std::string(e.what()).find("--"), std::string::npos) << e.what();
             EXPECT_EQ(std::string(e.what()).rfind(e.setting(), 0), 0u) << e.what();

@@ -126,7 +126,7 @@ TEST(Sweep, ShardsPartitionTheGrid) {
 
 // A fake finished row for a point (what run_points would record).
 sweep::Row fake_row(const sweep::SweepSpec& s, const sweep::SweepPoint& p) {
-    return {{"index", p.index}, {"key", p.key(s)}, {"scene", p.scene}, {"status", "ok"}, {"build_ms", 1.0 + p.index}};
+    return {{"index", p.index}, {"key", p.key(s)}, {"scene", p.scene}, {"status", "ok"}, {"build_ms", 1.0 + static_cast<double>(p.index)}};
 }
 
 TEST(Sweep, MergeJoinsShardsAndReportsWhatIsMissing) {
