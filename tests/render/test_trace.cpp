@@ -88,64 +88,6 @@ void expect_defined(const RenderBuffer& b) {
     }
 }
 
-TEST(Bvh, EveryBrickReachableAndBoxesNested) {
-    for (const int branching : {4, 2}) {
-        const Scene scene = shipped("spheres");
-        BuildSettings s = settings(0.125);
-        s.branching = branching;
-        const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, s, test::recorder());
-        ASSERT_EQ(b.builds.size(), 1u);
-        const std::vector<SdfBvhNode> nodes = b.bvh.nodes->read();
-        const std::vector<SdfBounds> boxes = b.builds[0].aabbs->read();
-        ASSERT_GT(boxes.size(), 100u);
-        EXPECT_EQ(b.bvh.node_count, boxes.size() - 1);
-        EXPECT_EQ(bvh::check_tree(nodes, b.bvh.roots[0], boxes), "") << "branching " << branching;
-        // The root box is the union of the bricks.
-        for (int a = 0; a < 3; ++a) {
-            float lo = INFINITY, hi = -INFINITY;
-            for (const SdfBounds& x : boxes) lo = std::min(lo, x.lo[a]), hi = std::max(hi, x.hi[a]);
-            EXPECT_EQ(b.bvh.geometry_boxes[0].lo[a], lo);
-            EXPECT_EQ(b.bvh.geometry_boxes[0].hi[a], hi);
-        }
-    }
-}
-
-// The refit's work-items hand boxes to each other through global memory: a larger tree, rebuilt
-// several times, must stay valid and bit-identical (this caught a visibility race on a GPU).
-TEST(Bvh, RebuildsAreValidAndIdentical) {
-    const Scene scene = shipped("drops");
-    const render::SceneBricks b = render::build_scene_bricks(engine().bricks, engine().bvh, scene, settings(0.25), test::recorder());
-    const std::vector<SdfBounds> boxes = b.builds[0].aabbs->read();
-    std::string first;
-    for (int i = 0; i < 8; ++i) {
-        const bvh::SceneBvh t = engine().bvh.build(scene, b.builds, test::recorder());
-        const std::vector<SdfBvhNode> nodes = t.nodes->read();
-        ASSERT_EQ(bvh::check_tree(nodes, t.roots[0], boxes), "") << "rebuild " << i;
-        const std::string d = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
-        if (i == 0) first = d;
-        ASSERT_EQ(d, first) << "rebuild " << i;
-    }
-}
-
-TEST(Bvh, CheckTreeFindsBrokenTrees) {
-    // Two leaves under one root, then three ways to break it.
-    const std::vector<SdfBounds> boxes{{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}};
-    SdfBvhNode root{{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {2, 1, 1}, {~0, ~1}, {0, 0}};
-    EXPECT_EQ(bvh::check_tree(std::vector<SdfBvhNode>{root}, 0, boxes), "");
-    SdfBvhNode missing = root;
-    missing.child[1] = ~0;
-    EXPECT_NE(bvh::check_tree(std::vector<SdfBvhNode>{missing}, 0, boxes), "");
-    SdfBvhNode wrong_box = root;
-    wrong_box.hi1[0] = 1.5f;
-    EXPECT_NE(bvh::check_tree(std::vector<SdfBvhNode>{wrong_box}, 0, boxes), "");
-    // an internal node whose box does not contain its children
-    SdfBvhNode top{{0, 0, 0}, {1.5f, 1, 1}, {5, 5, 5}, {6, 6, 6}, {1, ~2}, {0, 0}};
-    const std::vector<SdfBounds> three{boxes[0], boxes[1], {{5, 5, 5}, {6, 6, 6}}};
-    EXPECT_NE(bvh::check_tree(std::vector<SdfBvhNode>{top, root}, 0, three), "");
-    top.hi0[0] = 2.0f;
-    EXPECT_EQ(bvh::check_tree(std::vector<SdfBvhNode>{top, root}, 0, three), "");
-}
-
 // Spheres scene against the host reference: every method, normal rule, format and apron.
 TEST(RenderTrace, MatchesHostReferenceOnSpheres) {
     const Scene scene = shipped("spheres");
