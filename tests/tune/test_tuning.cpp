@@ -1,5 +1,6 @@
-// The tuning database (fallback device -> vendor -> default, file round trip, damaged files), applying
-// it to a run's settings, the search strategies, and `compare`'s spread rule.
+// The tuned kernels' declarations, the tuning database (fallback device -> vendor -> default, file
+// round trip, damaged files), applying it to a run's settings, the search strategies, the tuner on the
+// test device, and `compare`'s spread rule.
 #include <cmath>
 #include <limits>
 
@@ -8,8 +9,11 @@
 #include "core/errors.h"
 #include "measure/compare.h"
 #include "test_support.h"
+#include "scene/scene_json.h"
 #include "tune/apply.h"
+#include "tune/kernels.h"
 #include "tune/search.h"
+#include "tune/tuner.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick {
@@ -119,6 +123,80 @@ TEST(TuneTuning, ApplyKeepsWhatTheCommandLineGaveAndWhatTheDeviceCannotTake) {
     a = tune::apply_tuning(nullptr, gpu, {}, s, nullptr);
     EXPECT_EQ(s.chunk, construct::BuildSettings{}.chunk);
     EXPECT_EQ(a.record[tune::kEvaluateKernel]["source"], "default");
+}
+
+TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
+    const tune::TunedKernel& ev = tune::evaluate_kernel();
+    const tune::TunedKernel& tr = tune::trace_kernel();
+    EXPECT_EQ(tune::find_kernel("evaluate"), &ev);
+    EXPECT_EQ(tune::find_kernel(tune::kTraceKernel), &tr);
+    EXPECT_EQ(tune::find_kernel("shade"), nullptr);
+    EXPECT_EQ(ev.space().size(), 30u);  // chunk 16..256 x group 32..1024
+    EXPECT_EQ(tr.space().size(), 30u);  // group_x 4..64 x group_y 1..32
+    EXPECT_EQ(ev.default_config(), (tune::Config{{"chunk", 64}, {"group", 128}}));
+    EXPECT_EQ(tr.default_config(), (tune::Config{{"group_x", 16}, {"group_y", 8}}));
+    EXPECT_EQ(ev.objective, (std::vector<measure::Stage>{measure::Stage::count, measure::Stage::evaluate}));
+    EXPECT_EQ(tr.objective, std::vector<measure::Stage>{measure::Stage::trace});
+
+    ocl::DeviceInfo d = fake_device("GPU A", "Acme");  // 256 work-items
+    EXPECT_EQ(ev.space(&d).size(), 20u) << "the group stops at the device's work-group size";
+    EXPECT_EQ(tr.space(&d).size(), 30u) << "shapes too large stay in the space, refused";
+    EXPECT_NE(tr.refuses({{"group_x", 32}, {"group_y", 16}}, &d), "");
+    EXPECT_EQ(tr.refuses({{"group_x", 32}, {"group_y", 16}}), "") << "fits some device";
+    EXPECT_NE(tr.refuses({{"group_x", 4}, {"group_y", 2}}), "") << "fewer than 16 work-items";
+    EXPECT_NE(ev.refuses({{"chunk", 8}, {"group", 64}}), "") << "BuildSettings::validate";
+    EXPECT_NE(ev.refuses({{"chunk", 64}}), "") << "a parameter missing";
+    EXPECT_FALSE(ev.in_space({{"chunk", 48}, {"group", 64}}));
+
+    // The declared local-memory cost is the one BuildSettings::validate enforces.
+    d.local_mem_bytes = ev.local_mem_bytes({{"chunk", 128}, {"group", 64}});
+    EXPECT_EQ(ev.refuses({{"chunk", 128}, {"group", 64}}, &d), "");
+    construct::BuildSettings s;
+    s.chunk = 128;
+    EXPECT_NO_THROW(s.validate(d));
+    s.chunk = 129;
+    EXPECT_THROW(s.validate(d), InputError);
+    EXPECT_NE(ev.refuses({{"chunk", 256}, {"group", 64}}, &d), "");
+
+    render::TraceSettings t;
+    tr.apply({{"group_x", 8}, {"group_y", 4}}, s, t);
+    EXPECT_EQ(tr.read(s, t), (tune::Config{{"group_x", 8}, {"group_y", 4}}));
+    EXPECT_EQ(tr.describe(tr.read(s, t)), "8x4");
+}
+
+// The tuner measures through the run loop on the test device: both kernels, every configuration
+// reported, the default measured.
+TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
+    const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json");
+    const Scene scene = scene_at(file, file.time);
+    pipeline::Runner runner(test::device());
+    construct::BuildSettings base;
+    base.leaf_size = 0.5;
+    tune::TuneSpec spec;
+    spec.strategy = "random";
+    spec.budget = 2;
+    spec.warmup = 0;
+    spec.repeat = 1;
+    spec.width = 32;
+    spec.height = 16;
+    for (const tune::TunedKernel* k : tune::tuned_kernels()) {
+        std::vector<tune::Config> seen;
+        const tune::TuneResult r = tune::tune_kernel(*k, runner, scene, base, spec, [&](std::size_t n, const tune::Config& c, double) {
+            EXPECT_EQ(n, seen.size() + 1);
+            seen.push_back(c);
+        });
+        EXPECT_EQ(r.kernel, k);
+        EXPECT_EQ(r.strategy, tune::Strategy::random);
+        ASSERT_EQ(seen.size(), 2u) << k->name;
+        EXPECT_EQ(r.result.evaluated.size(), 2u);
+        EXPECT_EQ(r.fallback, k->default_config());
+        EXPECT_TRUE(std::isfinite(r.fallback_cost) && r.fallback_cost > 0.0) << k->name;
+        if (!r.found()) continue;
+        const tune::Entry e = tune::make_entry(r, test::device().info(), "spheres.json", "now");
+        EXPECT_EQ(e.kernel, k->name);
+        EXPECT_EQ(e.params, r.result.best);
+        EXPECT_EQ(e.record.contains("image"), k->work == pipeline::Work::trace);
+    }
 }
 
 // A bowl with its minimum at (chunk 64, group 128); group 512 cannot run.
