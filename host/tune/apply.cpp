@@ -22,6 +22,7 @@ nlohmann::json describe_entry(const Entry& e) {
     const nlohmann::json& r = e.record;
     nlohmann::json j = {{"device", e.device}, {"driver", e.driver},
                         {"tuned_at", r.is_object() ? r.value("tuned_at", "") : ""}};
+    if (r.is_object() && r.contains("measured")) j["measured"] = r["measured"];
     return j;
 }
 
@@ -52,6 +53,7 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
     const Config used = k.read(s, t);
     KernelApplied out{{{"source", source}, {"params", used}},
                       fmt::format("{} {} ({}){}", k.name, k.describe(used), source, note)};
+    if (!all_given) out.record["layer"] = layer_of(l.source);
     if (l.entry && !all_given) out.record["entry"] = describe_entry(*l.entry);
     if (!note.empty()) out.record["not_applied"] = note;
     return out;
