@@ -1,23 +1,62 @@
 #include "tune/apply.h"
 
-#include <fmt/format.h>
+#include <algorithm>
+#include <set>
 
-#include "core/errors.h"
+#include <fmt/format.h>
 
 namespace sdfbrick::tune {
 
 namespace {
 
-int param(const Lookup& l, const char* name, int fallback) {
-    const auto it = l.params.find(name);
-    return it != l.params.end() ? it->second : fallback;
+// The parameters (by their names in the kernels' declarations) the user gave.
+std::set<std::string> given_params(const Given& g) {
+    std::set<std::string> s;
+    if (g.chunk) s.insert("chunk");
+    if (g.group) s.insert("group");
+    if (g.trace_group) s.insert({"group_x", "group_y"});
+    return s;
 }
 
-nlohmann::json describe(const Lookup& l, const nlohmann::json& params, bool given) {
-    nlohmann::json j = {{"source", given ? "command line" : std::string(to_string(l.source))}, {"params", params}};
-    if (l.entry && !given)
-        j["entry"] = {{"device", l.entry->device}, {"driver", l.entry->driver}, {"tuned_at", l.entry->record.is_object() ? l.entry->record.value("tuned_at", "") : ""}};
+nlohmann::json describe_entry(const Entry& e) {
+    const nlohmann::json& r = e.record;
+    nlohmann::json j = {{"device", e.device}, {"driver", e.driver},
+                        {"tuned_at", r.is_object() ? r.value("tuned_at", "") : ""}};
+    if (r.is_object() && r.contains("measured")) j["measured"] = r["measured"];
     return j;
+}
+
+struct KernelApplied {
+    nlohmann::json record;
+    std::string text;
+};
+
+// One kernel: the looked-up values of the parameters not given, if the device can take them.
+KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::DeviceInfo& device,
+                           const std::set<std::string>& given, construct::BuildSettings& s, render::TraceSettings& t) {
+    const Lookup l = db ? db->find(device.name, device.driver_version, device.vendor, k.name) : Lookup{};
+    const Config current = k.read(s, t);
+    Config want = current;
+    for (const TunedParam& p : k.params)
+        if (const auto it = l.params.find(p.name); it != l.params.end() && !given.contains(p.name))
+            want[p.name] = it->second;
+    std::string note;
+    if (want != current) {
+        if (const std::string why = k.refuses(want, &device); why.empty())
+            k.apply(want, s, t);
+        else
+            note = fmt::format(" (tuned values not applied: {})", why);
+    }
+    const bool all_given =
+        std::all_of(k.params.begin(), k.params.end(), [&](const TunedParam& p) { return given.contains(p.name); });
+    const std::string source = all_given ? "command line" : std::string(to_string(l.source));
+    const Config used = k.read(s, t);
+    KernelApplied out{{{"source", source}, {"params", used}},
+                      fmt::format("{} {} ({}){}", k.name, k.describe(used), source, note)};
+    if (!all_given) out.record["layer"] = layer_of(l.source);
+    if (l.entry && !all_given) out.record["entry"] = describe_entry(*l.entry);
+    if (!note.empty()) out.record["not_applied"] = note;
+    return out;
 }
 
 }  // namespace
@@ -25,37 +64,13 @@ nlohmann::json describe(const Lookup& l, const nlohmann::json& params, bool give
 Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Given& given,
                      construct::BuildSettings& settings, render::TraceSettings* trace) {
     Applied out;
-    const auto find = [&](const char* kernel) {
-        return db ? db->find(device.name, device.driver_version, device.vendor, kernel) : Lookup{};
-    };
-    const Lookup eval = find(kEvaluateKernel);
-    construct::BuildSettings tuned = settings;
-    if (!given.chunk) tuned.chunk = param(eval, "chunk", tuned.chunk);
-    if (!given.group) tuned.eval_group = param(eval, "group", tuned.eval_group);
-    std::string note;
-    try {
-        tuned.validate(device);
-        settings = tuned;
-    } catch (const InputError& e) {
-        note = fmt::format(" (tuned values not applied: {})", e.what());
-    }
-    out.record[kEvaluateKernel] = describe(eval, {{"chunk", settings.chunk}, {"group", settings.eval_group}},
-                                           given.chunk && given.group);
-    if (!note.empty()) out.record[kEvaluateKernel]["not_applied"] = note;
-    out.text = fmt::format("tuning: {} chunk {} group {} ({}){}", kEvaluateKernel, settings.chunk, settings.eval_group,
-                           given.chunk && given.group ? "command line" : to_string(eval.source), note);
-    if (trace) {
-        const Lookup tr = find(kTraceKernel);
-        if (!given.trace_group) {
-            const int x = param(tr, "group_x", trace->group_x), y = param(tr, "group_y", trace->group_y);
-            if (static_cast<std::size_t>(x) * y <= device.max_work_group_size) {
-                trace->group_x = x;
-                trace->group_y = y;
-            }
-        }
-        out.record[kTraceKernel] = describe(tr, {{"group_x", trace->group_x}, {"group_y", trace->group_y}}, given.trace_group);
-        out.text += fmt::format("; {} {}x{} ({})", kTraceKernel, trace->group_x, trace->group_y,
-                                given.trace_group ? "command line" : to_string(tr.source));
+    const std::set<std::string> given_names = given_params(given);
+    render::TraceSettings unused;
+    for (const TunedKernel* k : tuned_kernels()) {
+        if (k->work == pipeline::Work::trace && !trace) continue;
+        const KernelApplied a = apply_kernel(*k, db, device, given_names, settings, trace ? *trace : unused);
+        out.record[k->name] = a.record;
+        out.text += (out.text.empty() ? "tuning: " : "; ") + a.text;
     }
     if (!db) out.text += " [tuning database off]";
     return out;

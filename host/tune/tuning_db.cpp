@@ -19,6 +19,19 @@ std::string_view to_string(Source s) {
     switch (s) {
         case Source::device: return "device";
         case Source::vendor: return "vendor";
+        case Source::builtin_device: return "builtin device";
+        case Source::builtin_vendor: return "builtin vendor";
+        case Source::fallback: return "default";
+    }
+    return "?";
+}
+
+std::string_view layer_of(Source s) {
+    switch (s) {
+        case Source::device:
+        case Source::vendor: return "file";
+        case Source::builtin_device:
+        case Source::builtin_vendor: return "builtin";
         case Source::fallback: return "default";
     }
     return "?";
@@ -36,8 +49,8 @@ std::optional<std::filesystem::path> TuningDb::default_path() {
     return std::nullopt;
 }
 
-TuningDb TuningDb::load(const std::filesystem::path& path) {
-    TuningDb db;
+TuningDb TuningDb::load(const std::filesystem::path& path, Layers layers) {
+    TuningDb db(layers);
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return db;
     const auto bad = [&](const std::string& what) {
@@ -67,15 +80,42 @@ TuningDb TuningDb::load(const std::filesystem::path& path) {
     return db;
 }
 
-Lookup TuningDb::find(const std::string& device, const std::string& driver, const std::string& vendor,
-                      const std::string& kernel) const {
+namespace {
+
+// The user's file: the device and driver, else the vendor's most recent entry.
+Lookup find_in_file(const std::vector<Entry>& entries, const std::string& device, const std::string& driver,
+                    const std::string& vendor, const std::string& kernel) {
     const Entry* by_vendor = nullptr;
-    for (const Entry& e : entries_) {
+    for (const Entry& e : entries) {
         if (e.kernel != kernel) continue;
         if (e.device == device && e.driver == driver) return {e.params, Source::device, &e};
         if (e.vendor == vendor) by_vendor = &e;  // the last one is the most recent
     }
     if (by_vendor) return {by_vendor->params, Source::vendor, by_vendor};
+    return {};
+}
+
+// The compiled-in layer: the device name whatever the driver (its own driver's entry first), else the
+// vendor's most recent entry.
+Lookup find_builtin(const std::string& device, const std::string& driver, const std::string& vendor,
+                    const std::string& kernel) {
+    const Entry *by_name = nullptr, *by_vendor = nullptr;
+    for (const Entry& e : builtin_entries()) {
+        if (e.kernel != kernel) continue;
+        if (e.device == device && (by_name == nullptr || by_name->driver != driver)) by_name = &e;
+        if (e.vendor == vendor) by_vendor = &e;
+    }
+    if (by_name) return {by_name->params, Source::builtin_device, by_name};
+    if (by_vendor) return {by_vendor->params, Source::builtin_vendor, by_vendor};
+    return {};
+}
+
+}  // namespace
+
+Lookup TuningDb::find(const std::string& device, const std::string& driver, const std::string& vendor,
+                      const std::string& kernel) const {
+    if (Lookup l = find_in_file(entries_, device, driver, vendor, kernel); l.entry) return l;
+    if (builtin_) return find_builtin(device, driver, vendor, kernel);
     return {};
 }
 

@@ -17,6 +17,8 @@
 #include "core/files.h"
 #include "sdf_types.h"
 #include "test_support.h"
+#include "tune/kernels.h"
+#include "tune/tuning_db.h"
 
 namespace sdfbrick {
 namespace {
@@ -187,6 +189,30 @@ TEST(Cli, TuneWritesTheDatabaseAndLaterRunsUseIt) {
     const CliRun c = sdfbrick("compare " + (dir / "a.json").string() + " " + (dir / "b.json").string(), env);
     ASSERT_EQ(c.status, 0) << c.err;
     for (const char* s : {"evaluate", "total", "stage(s) changed"}) EXPECT_NE(c.out.find(s), std::string::npos) << c.out;
+}
+
+// With no tuning file yet, a build takes the compiled-in layer's values for a known device (this
+// machine's PoCL is one), else the defaults, and says which; --no-tuning ignores both layers.
+TEST(Cli, BuildUsesTheBuiltinTuningLayerUnlessTuningIsOff) {
+    const fs::path dir = test::temp_dir("cli_builtin_tuning");
+    const std::string env = "SDFBRICK_DEVICE=" + test_device_spec() + " SDFBRICK_TUNING_DB=" + (dir / "none.json").string();
+    const ocl::DeviceInfo& d = test::device().info();
+    const tune::Lookup expect = tune::TuningDb().find(d.name, d.driver_version, d.vendor, tune::kEvaluateKernel);
+    const tune::Config want = expect.entry ? expect.params : tune::evaluate_kernel().default_config();
+    const CliRun b = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.5 --json " + (dir / "a.json").string(), env);
+    ASSERT_EQ(b.status, 0) << b.err;
+    const auto report = nlohmann::json::parse(read_file(dir / "a.json"));
+    EXPECT_EQ(report["tuning"]["brick_evaluate"]["source"], tune::to_string(expect.source)) << d.name;
+    EXPECT_EQ(report["settings"]["chunk"], want.at("chunk"));
+    EXPECT_EQ(report["settings"]["group"], want.at("group"));
+    EXPECT_NE(b.out.find(fmt::format("brick_evaluate chunk {} group {} ({})", want.at("chunk"), want.at("group"),
+                                     tune::to_string(expect.source))), std::string::npos) << b.out;
+    EXPECT_FALSE(fs::exists(dir / "none.json")) << "reading never writes the file";
+
+    const CliRun off = sdfbrick("--no-tuning build " + scene_path("spheres") + " --brick-size 0.5 --json " + (dir / "b.json").string(), env);
+    ASSERT_EQ(off.status, 0) << off.err;
+    EXPECT_NE(off.out.find("chunk 64 group 128 (default)"), std::string::npos) << off.out;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir / "b.json"))["tuning"]["brick_evaluate"]["source"], "default");
 }
 
 // Two shards of a sweep, then merge: one complete CSV with every grid point.

@@ -1,5 +1,6 @@
-// The tuning database (fallback device -> vendor -> default, file round trip, damaged files), applying
-// it to a run's settings, the search strategies, and `compare`'s spread rule.
+// The tuned kernels' declarations, the tuning database (fallback file device -> file vendor -> builtin
+// device -> builtin vendor -> default, file round trip, damaged files), applying it to a run's settings,
+// the search strategies, the tuner on the test device, and `compare`'s spread rule.
 #include <cmath>
 #include <limits>
 
@@ -7,8 +8,11 @@
 
 #include "core/errors.h"
 #include "test_support.h"
+#include "scene/scene_json.h"
 #include "tune/apply.h"
+#include "tune/kernels.h"
 #include "tune/search.h"
+#include "tune/tuner.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick {
@@ -20,7 +24,7 @@ tune::Entry entry(const std::string& device, const std::string& driver, const st
 }
 
 TEST(TuneTuning, LookupFallsBackDeviceThenVendorThenDefault) {
-    tune::TuningDb db;
+    tune::TuningDb db(tune::Layers::without_builtin);  // "no entry" means the default
     db.put(entry("GPU A", "1.0", "Acme", "brick_evaluate", 32));
     db.put(entry("GPU B", "2.0", "Acme", "brick_evaluate", 128));  // tuned later: the vendor's most recent
     db.put(entry("CPU C", "5.0", "Other", "trace_primary", 16));
@@ -83,7 +87,7 @@ ocl::DeviceInfo fake_device(const std::string& name, const std::string& vendor) 
 }
 
 TEST(TuneTuning, ApplyKeepsWhatTheCommandLineGaveAndWhatTheDeviceCannotTake) {
-    tune::TuningDb db;
+    tune::TuningDb db(tune::Layers::without_builtin);
     db.put({"GPU A", "1.0", "Acme", tune::kEvaluateKernel, {{"chunk", 128}, {"group", 256}}, {}});
     db.put({"GPU A", "1.0", "Acme", tune::kTraceKernel, {{"group_x", 8}, {"group_y", 4}}, {}});
     const ocl::DeviceInfo gpu = fake_device("GPU A", "Acme");
@@ -118,6 +122,164 @@ TEST(TuneTuning, ApplyKeepsWhatTheCommandLineGaveAndWhatTheDeviceCannotTake) {
     a = tune::apply_tuning(nullptr, gpu, {}, s, nullptr);
     EXPECT_EQ(s.chunk, construct::BuildSettings{}.chunk);
     EXPECT_EQ(a.record[tune::kEvaluateKernel]["source"], "default");
+}
+
+constexpr const char* kH100 = "NVIDIA H100 80GB HBM3";
+constexpr const char* kNvidia = "NVIDIA Corporation";
+
+TEST(TuneTuning, BuiltinLayerIsFoundByDeviceNameThenVendor) {
+    const tune::TuningDb db;  // an empty file over the compiled-in layer
+    const tune::Lookup h100 = db.find(kH100, "999.99", kNvidia, tune::kEvaluateKernel);
+    EXPECT_EQ(h100.source, tune::Source::builtin_device) << "the device name matches whatever the driver";
+    EXPECT_EQ(h100.params, (tune::Config{{"chunk", 16}, {"group", 64}}));
+    ASSERT_NE(h100.entry, nullptr);
+    EXPECT_EQ(h100.entry->driver, "580.159.04");
+    EXPECT_EQ(db.find(kH100, "580.159.04", kNvidia, tune::kTraceKernel).params,
+              (tune::Config{{"group_x", 4}, {"group_y", 8}}));
+
+    const tune::Lookup other = db.find("NVIDIA Some Other GPU", "1.0", kNvidia, tune::kTraceKernel);
+    EXPECT_EQ(other.source, tune::Source::builtin_vendor);
+    EXPECT_EQ(other.params, (tune::Config{{"group_x", 4}, {"group_y", 8}}));
+    EXPECT_EQ(tune::to_string(other.source), "builtin vendor");
+    EXPECT_EQ(tune::layer_of(other.source), "builtin");
+
+    const tune::Lookup pocl = db.find("cpu-skylake-avx512-Intel(R) Xeon(R) Processor", "5.0+debian", "GenuineIntel",
+                                      tune::kEvaluateKernel);
+    EXPECT_EQ(pocl.source, tune::Source::builtin_device);
+    EXPECT_EQ(pocl.params, (tune::Config{{"chunk", 32}, {"group", 64}}));
+
+    EXPECT_EQ(db.find("Unknown", "1", "Nobody", tune::kEvaluateKernel).source, tune::Source::fallback);
+    EXPECT_EQ(tune::TuningDb(tune::Layers::without_builtin).find(kH100, "580.159.04", kNvidia, tune::kEvaluateKernel).source,
+              tune::Source::fallback);
+    EXPECT_TRUE(db.to_json()["entries"].empty()) << "the compiled-in layer is never written to the file";
+}
+
+TEST(TuneTuning, UserEntriesWinOverTheBuiltinLayer) {
+    tune::TuningDb db;
+    db.put(entry(kH100, "580.159.04", kNvidia, tune::kEvaluateKernel, 256));
+    const tune::Lookup own = db.find(kH100, "580.159.04", kNvidia, tune::kEvaluateKernel);
+    EXPECT_EQ(own.source, tune::Source::device);
+    EXPECT_EQ(own.params.at("chunk"), 256);
+    EXPECT_EQ(tune::layer_of(own.source), "file");
+    // The file's vendor entry comes before the compiled-in device entry.
+    const tune::Lookup vendor = db.find(kH100, "600.0", kNvidia, tune::kEvaluateKernel);
+    EXPECT_EQ(vendor.source, tune::Source::vendor);
+    EXPECT_EQ(vendor.params.at("chunk"), 256);
+    // The file has nothing for the trace kernel: the compiled-in entry.
+    EXPECT_EQ(db.find(kH100, "580.159.04", kNvidia, tune::kTraceKernel).source, tune::Source::builtin_device);
+}
+
+TEST(TuneTuning, ApplyReportsTheBuiltinLayerAndTuningOffIgnoresIt) {
+    ocl::DeviceInfo h100 = fake_device(kH100, kNvidia);
+    h100.max_work_group_size = 1024;
+    const tune::TuningDb db;
+    construct::BuildSettings s;
+    render::TraceSettings t;
+    tune::Applied a = tune::apply_tuning(&db, h100, {}, s, &t);
+    EXPECT_EQ(s.chunk, 16);
+    EXPECT_EQ(s.eval_group, 64);
+    EXPECT_EQ(t.group_x, 4);
+    EXPECT_EQ(a.record[tune::kEvaluateKernel]["source"], "builtin device");
+    EXPECT_EQ(a.record[tune::kEvaluateKernel]["layer"], "builtin");
+    EXPECT_TRUE(a.record[tune::kTraceKernel]["entry"].contains("measured"));
+    EXPECT_NE(a.text.find("brick_evaluate chunk 16 group 64 (builtin device)"), std::string::npos) << a.text;
+    EXPECT_NE(a.text.find("trace_primary 4x8 (builtin device)"), std::string::npos) << a.text;
+
+    s = {};
+    t = {};
+    a = tune::apply_tuning(nullptr, h100, {}, s, &t);  // --no-tuning
+    EXPECT_EQ(s.chunk, construct::BuildSettings{}.chunk);
+    EXPECT_EQ(s.eval_group, construct::BuildSettings{}.eval_group);
+    EXPECT_EQ(t.group_x, render::TraceSettings{}.group_x);
+    EXPECT_EQ(a.record[tune::kEvaluateKernel]["source"], "default");
+    EXPECT_EQ(a.record[tune::kTraceKernel]["source"], "default");
+}
+
+TEST(TuneKernels, EveryBuiltinEntryIsValidForItsDeclaration) {
+    ASSERT_FALSE(tune::builtin_entries().empty());
+    for (const tune::Entry& e : tune::builtin_entries()) {
+        const tune::TunedKernel* k = tune::find_kernel(e.kernel);
+        ASSERT_NE(k, nullptr) << e.kernel;
+        EXPECT_TRUE(k->in_space(e.params)) << e.device << " " << e.kernel;
+        EXPECT_EQ(k->refuses(e.params), "") << e.device << " " << e.kernel;
+        for (const char* field : {"time_ms", "default_ms", "tuned_at", "measured", "scene", "brick_size"})
+            EXPECT_TRUE(e.record.contains(field)) << e.device << " " << e.kernel << ": " << field;
+        EXPECT_TRUE(k->in_space(e.record.at("default_params").get<tune::Config>())) << e.device << " " << e.kernel;
+    }
+}
+
+TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
+    const tune::TunedKernel& ev = tune::evaluate_kernel();
+    const tune::TunedKernel& tr = tune::trace_kernel();
+    EXPECT_EQ(tune::find_kernel("evaluate"), &ev);
+    EXPECT_EQ(tune::find_kernel(tune::kTraceKernel), &tr);
+    EXPECT_EQ(tune::find_kernel("shade"), nullptr);
+    EXPECT_EQ(ev.space().size(), 30u);  // chunk 16..256 x group 32..1024
+    EXPECT_EQ(tr.space().size(), 30u);  // group_x 4..64 x group_y 1..32
+    EXPECT_EQ(ev.default_config(), (tune::Config{{"chunk", 64}, {"group", 128}}));
+    EXPECT_EQ(tr.default_config(), (tune::Config{{"group_x", 16}, {"group_y", 8}}));
+    EXPECT_EQ(ev.objective, (std::vector<measure::Stage>{measure::Stage::count, measure::Stage::evaluate}));
+    EXPECT_EQ(tr.objective, std::vector<measure::Stage>{measure::Stage::trace});
+
+    ocl::DeviceInfo d = fake_device("GPU A", "Acme");  // 256 work-items
+    EXPECT_EQ(ev.space(&d).size(), 20u) << "the group stops at the device's work-group size";
+    EXPECT_EQ(tr.space(&d).size(), 30u) << "shapes too large stay in the space, refused";
+    EXPECT_NE(tr.refuses({{"group_x", 32}, {"group_y", 16}}, &d), "");
+    EXPECT_EQ(tr.refuses({{"group_x", 32}, {"group_y", 16}}), "") << "fits some device";
+    EXPECT_NE(tr.refuses({{"group_x", 4}, {"group_y", 2}}), "") << "fewer than 16 work-items";
+    EXPECT_NE(ev.refuses({{"chunk", 8}, {"group", 64}}), "") << "BuildSettings::validate";
+    EXPECT_NE(ev.refuses({{"chunk", 64}}), "") << "a parameter missing";
+    EXPECT_FALSE(ev.in_space({{"chunk", 48}, {"group", 64}}));
+
+    // The declared local-memory cost is the one BuildSettings::validate enforces.
+    d.local_mem_bytes = ev.local_mem_bytes({{"chunk", 128}, {"group", 64}});
+    EXPECT_EQ(ev.refuses({{"chunk", 128}, {"group", 64}}, &d), "");
+    construct::BuildSettings s;
+    s.chunk = 128;
+    EXPECT_NO_THROW(s.validate(d));
+    s.chunk = 129;
+    EXPECT_THROW(s.validate(d), InputError);
+    EXPECT_NE(ev.refuses({{"chunk", 256}, {"group", 64}}, &d), "");
+
+    render::TraceSettings t;
+    tr.apply({{"group_x", 8}, {"group_y", 4}}, s, t);
+    EXPECT_EQ(tr.read(s, t), (tune::Config{{"group_x", 8}, {"group_y", 4}}));
+    EXPECT_EQ(tr.describe(tr.read(s, t)), "8x4");
+}
+
+// The tuner measures through the run loop on the test device: both kernels, every configuration
+// reported, the default measured.
+TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
+    const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json");
+    const Scene scene = scene_at(file, file.time);
+    pipeline::Runner runner(test::device());
+    construct::BuildSettings base;
+    base.leaf_size = 0.5;
+    tune::TuneSpec spec;
+    spec.strategy = "random";
+    spec.budget = 2;
+    spec.warmup = 0;
+    spec.repeat = 1;
+    spec.width = 32;
+    spec.height = 16;
+    for (const tune::TunedKernel* k : tune::tuned_kernels()) {
+        std::vector<tune::Config> seen;
+        const tune::TuneResult r = tune::tune_kernel(*k, runner, scene, base, spec, [&](std::size_t n, const tune::Config& c, double) {
+            EXPECT_EQ(n, seen.size() + 1);
+            seen.push_back(c);
+        });
+        EXPECT_EQ(r.kernel, k);
+        EXPECT_EQ(r.strategy, tune::Strategy::random);
+        ASSERT_EQ(seen.size(), 2u) << k->name;
+        EXPECT_EQ(r.result.evaluated.size(), 2u);
+        EXPECT_EQ(r.fallback, k->default_config());
+        EXPECT_TRUE(std::isfinite(r.fallback_cost) && r.fallback_cost > 0.0) << k->name;
+        if (!r.found()) continue;
+        const tune::Entry e = tune::make_entry(r, test::device().info(), "spheres.json", "now");
+        EXPECT_EQ(e.kernel, k->name);
+        EXPECT_EQ(e.params, r.result.best);
+        EXPECT_EQ(e.record.contains("image"), k->work == pipeline::Work::trace);
+    }
 }
 
 // A bowl with its minimum at (chunk 64, group 128); group 512 cannot run.

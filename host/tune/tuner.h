@@ -1,0 +1,55 @@
+// The tuner: searches one declared kernel's configurations on one device, measuring each through the
+// run loop (pipeline::Runner): a build per configuration for brick_evaluate, trace passes over bricks
+// built once for trace_primary. Each configuration's cost is the device time of the kernel's objective
+// stages, minimum over the captures; a configuration the device cannot take costs +infinity ("not
+// runnable"). docs/tuning.md.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "pipeline/run.h"
+#include "scene/scene.h"
+#include "tune/kernels.h"
+#include "tune/search.h"
+#include "tune/tuning_db.h"
+
+namespace sdfbrick::tune {
+
+struct TuneSpec {
+    std::string strategy = "auto";  // strategy_from_string
+    std::size_t budget = 40;        // most configurations measured (random, anneal)
+    std::uint64_t seed = 1;
+    int warmup = 1, repeat = 3;  // per configuration
+    int width = 1280, height = 720;  // the traced image (Work::trace kernels)
+};
+
+struct TuneResult {
+    const TunedKernel* kernel = nullptr;
+    SearchResult result;  // every configuration measured, in order; the best
+    Config fallback;      // the kernel's default configuration
+    double fallback_cost = 0.0;
+    Strategy strategy = Strategy::full;
+    std::size_t space = 0;  // configurations in the device's space
+    construct::BuildSettings settings;  // the base settings measured with
+    TuneSpec spec;
+    bool found() const;  // some configuration ran
+};
+
+// Called after each configuration is measured: its 1-based number, the configuration, its cost
+// (+infinity when not runnable).
+using TuneProgress = std::function<void(std::size_t, const Config&, double)>;
+
+// Tunes kernel on runner's device over scene. base gives every other setting (for a Work::trace kernel,
+// the bricks are built once with it). Throws InputError for a bad strategy or settings the device
+// refuses outside the tuned parameters.
+TuneResult tune_kernel(const TunedKernel& kernel, pipeline::Runner& runner, const Scene& scene,
+                       const construct::BuildSettings& base, const TuneSpec& spec, const TuneProgress& progress = {});
+
+// The database entry of a result (found() only): the best configuration, its time, the default's,
+// and how, where and when it was measured.
+Entry make_entry(const TuneResult& r, const ocl::DeviceInfo& device, const std::string& scene_file,
+                 const std::string& tuned_at);
+
+}  // namespace sdfbrick::tune
