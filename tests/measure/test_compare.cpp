@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/errors.h"
 #include "measure/compare.h"
 
 namespace sdfbrick {
