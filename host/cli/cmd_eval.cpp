@@ -34,96 +34,162 @@ std::string default_image_path(const Scene& scene) {
     return fmt::format("{}-slice.{}", scene.name.empty() ? "scene" : scene.name, image_io_has_oiio() ? "png" : "ppm");
 }
 
+// One device's part of the eval report.
+struct DeviceEvalReport {
+    ocl::DeviceInfo device;
+    int width = 0, height = 0;  // the slice's pixels
+    double offset = 0.0;        // the slice's position along its axis
+    double device_ms = 0.0, queue_ms = 0.0;
+    std::size_t points = 0;
+    std::uint64_t edit_evaluations = 0;
+    ocl::BuildRecord program;
+    reference::ReferenceCheck check;  // samples 0: not compared
+    std::string digest;
+
+    double points_per_second() const { return static_cast<double>(points) / (device_ms * 1e-3); }
+    double edit_evaluations_per_second() const { return static_cast<double>(edit_evaluations) / (device_ms * 1e-3); }
+};
+
+// The whole command's report: the scene, the slice, every device and the field on the first
+// device's slice.
+struct EvalReport {
+    std::string file, scene;
+    double time = 0.0;
+    std::size_t objects = 0, edits = 0;
+    std::string axis;
+    double offset = 0.0, pixel_size = 0.0;
+    int width = 0, height = 0;
+    double field_min = 0.0, field_max = 0.0, inside_fraction = 0.0;
+    std::vector<DeviceEvalReport> devices;
+    bool devices_agree = true;
+    std::string image;
+    std::optional<std::string> json_path;
+};
+
+nlohmann::json to_json(const DeviceEvalReport& d) {
+    return {{"device", d.device.to_json()},
+            {"program", {{"origin", to_string(d.program.origin)}, {"build_ms", d.program.build_ms},
+                         {"options", d.program.options},
+                         {"correctly_rounded_divide_sqrt", d.program.correctly_rounded_divide_sqrt}}},
+            {"device_ms", d.device_ms},
+            {"queue_ms", d.queue_ms},
+            {"points", d.points},
+            {"edit_evaluations", d.edit_evaluations},
+            {"points_per_second", d.points_per_second()},
+            {"edit_evaluations_per_second", d.edit_evaluations_per_second()},
+            {"accuracy", {{"reference", "host double precision"},
+                          {"samples", d.check.samples},
+                          {"max_abs_error", d.check.max_abs_error},
+                          {"mean_abs_error", d.check.mean_abs_error},
+                          {"sign_mismatches", d.check.sign_mismatches}}},
+            {"digest", d.digest}};
+}
+
+std::string to_text(const DeviceEvalReport& d, const std::string& axis) {
+    std::string s = fmt::format(
+        "device {} [{}]: {}x{} slice ({} axis at {:.4f}), kernel {:.3f} ms (queue {:.3f} ms), "
+        "{:.3g} points/s, {:.3g} edit evaluations/s; program {} ({:.0f} ms{})\n",
+        d.device.index, d.device.name, d.width, d.height, axis, d.offset, d.device_ms, d.queue_ms, d.points_per_second(),
+        d.edit_evaluations_per_second(), to_string(d.program.origin), d.program.build_ms,
+        d.program.correctly_rounded_divide_sqrt ? ", correctly rounded div/sqrt" : ", div/sqrt NOT correctly rounded");
+    if (d.check.samples == 0)
+        return s + fmt::format("  not compared with the host reference (--check 0); digest {}\n", d.digest);
+    return s + fmt::format("  vs host reference (double) on {} points: max |error| {:.3g}, mean {:.3g}, "
+                           "inside/outside disagreements {}; digest {}\n",
+                           d.check.samples, d.check.max_abs_error, d.check.mean_abs_error, d.check.sign_mismatches,
+                           d.digest);
+}
+
+nlohmann::json to_json(const EvalReport& r) {
+    nlohmann::json devices = nlohmann::json::array();
+    for (const DeviceEvalReport& d : r.devices) devices.push_back(to_json(d));
+    return {{"command", "eval"},
+            {"scene", {{"file", r.file}, {"name", r.scene}, {"time", r.time}, {"objects", r.objects}, {"edits", r.edits}}},
+            {"slice", {{"axis", r.axis}, {"offset", r.offset}, {"width", r.width}, {"height", r.height},
+                       {"pixel_size", r.pixel_size}}},
+            {"field", {{"min", r.field_min}, {"max", r.field_max}, {"inside_fraction", r.inside_fraction}}},
+            {"devices", devices},
+            {"devices_agree", r.devices_agree},
+            {"image", r.image}};
+}
+
+std::string to_text(const EvalReport& r) {
+    std::string s = fmt::format("scene {} ({}), t = {} s, {} objects, {} edits\n", r.scene, r.file, r.time, r.objects,
+                                r.edits);
+    for (const DeviceEvalReport& d : r.devices) s += to_text(d, r.axis);
+    if (r.devices.size() > 1)
+        s += fmt::format("devices agree bit for bit: {}\n", r.devices_agree ? "yes" : "NO (digests differ)");
+    s += fmt::format("field on the slice: min {:.4f}, max {:.4f}, inside {:.1f}%; picture: {}\n", r.field_min,
+                     r.field_max, 100.0 * r.inside_fraction, r.image);
+    if (r.json_path) s += fmt::format("report: {}\n", *r.json_path);
+    return s;
+}
+
+DeviceEvalReport device_report(const ocl::Device& device, const reference::FieldEvaluator& evaluator,
+                               const reference::Slice& slice, const reference::ReferenceCheck& check) {
+    DeviceEvalReport d;
+    d.device = device.info();
+    d.width = slice.width;
+    d.height = slice.height;
+    d.offset = slice.offset;
+    d.device_ms = slice.device_ms;
+    d.queue_ms = slice.queue_ms;
+    d.points = slice.values.size();
+    d.edit_evaluations = slice.edit_evaluations;
+    d.program = evaluator.build();
+    d.check = check;
+    d.digest = Fnv1a64().add_values(std::span<const float>(slice.values)).hex();
+    return d;
+}
+
+// The slice's geometry and the field on it (the first device's slice).
+void describe_slice(const reference::Slice& slice, EvalReport& r) {
+    r.offset = slice.offset;
+    r.width = slice.width;
+    r.height = slice.height;
+    r.pixel_size = slice.pixel_size;
+    const auto [lo, hi] = std::minmax_element(slice.values.begin(), slice.values.end());
+    const auto inside = std::count_if(slice.values.begin(), slice.values.end(), [](float v) { return v < 0.0f; });
+    r.field_min = *lo;
+    r.field_max = *hi;
+    r.inside_fraction = static_cast<double>(inside) / static_cast<double>(slice.values.size());
+}
+
 void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     apply_global_options(global);
     const Scene file_scene = load_scene(o.file);
-    const double t = o.time.value_or(file_scene.time);
-    const Scene scene = scene_at(file_scene, t);
+    EvalReport report;
+    report.file = o.file;
+    report.time = o.time.value_or(file_scene.time);
+    const Scene scene = scene_at(file_scene, report.time);
+    report.scene = scene.name;
+    report.objects = scene.objects.size();
+    for (const Object& obj : scene.objects) report.edits += scene.geometries[obj.geometry].edits.size();
+    report.axis = o.axis;
     reference::SliceSpec spec;
     spec.axis = o.axis == "x" ? 0 : o.axis == "y" ? 1 : 2;
     spec.offset = o.offset;
     spec.resolution = o.size;
-    const std::string image_path = o.out.value_or(default_image_path(scene));
-
-    std::size_t edits = 0;
-    for (const Object& obj : scene.objects) edits += scene.geometries[obj.geometry].edits.size();
+    report.image = o.out.value_or(default_image_path(scene));
 
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
-    nlohmann::json report_devices = nlohmann::json::array();
     std::optional<reference::Slice> first;
-    std::string first_digest;
-    bool all_agree = true;
-    std::optional<reference::ReferenceSamples> reference;
-    std::string summary = fmt::format("scene {} ({}), t = {} s, {} objects, {} edits\n", scene.name, o.file, t,
-                                      scene.objects.size(), edits);
+    std::optional<reference::ReferenceSamples> samples;
     for (ocl::Device& device : devices) {
         reference::FieldEvaluator evaluator(device);
         reference::Slice slice = reference::evaluate_slice(evaluator, scene, spec);
-        if (!reference) reference = reference::reference_samples(slice, scene, o.check);
-        const reference::ReferenceCheck check = reference::check_against_reference(slice, *reference);
-        const std::string digest = Fnv1a64().add_values(std::span<const float>(slice.values)).hex();
-        const double points = static_cast<double>(slice.values.size());
-        const double seconds = slice.device_ms * 1e-3;
-        const auto& build = evaluator.build();
-        if (!first) {
-            first_digest = digest;
-        } else {
-            all_agree = all_agree && digest == first_digest;
-        }
-        summary += fmt::format(
-            "device {} [{}]: {}x{} slice ({} axis at {:.4f}), kernel {:.3f} ms (queue {:.3f} ms), "
-            "{:.3g} points/s, {:.3g} edit evaluations/s; program {} ({:.0f} ms{})\n",
-            device.info().index, device.info().name, slice.width, slice.height, o.axis, slice.offset,
-            slice.device_ms, slice.queue_ms, points / seconds, static_cast<double>(slice.edit_evaluations) / seconds,
-            to_string(build.origin), build.build_ms,
-            build.correctly_rounded_divide_sqrt ? ", correctly rounded div/sqrt" : ", div/sqrt NOT correctly rounded");
-        if (check.samples == 0)
-            summary += fmt::format("  not compared with the host reference (--check 0); digest {}\n", digest);
-        else
-            summary += fmt::format("  vs host reference (double) on {} points: max |error| {:.3g}, mean {:.3g}, "
-                                   "inside/outside disagreements {}; digest {}\n",
-                                   check.samples, check.max_abs_error, check.mean_abs_error, check.sign_mismatches, digest);
-        report_devices.push_back({{"device", device.info().to_json()},
-                                  {"program", {{"origin", to_string(build.origin)}, {"build_ms", build.build_ms},
-                                               {"options", build.options},
-                                               {"correctly_rounded_divide_sqrt", build.correctly_rounded_divide_sqrt}}},
-                                  {"device_ms", slice.device_ms},
-                                  {"queue_ms", slice.queue_ms},
-                                  {"points", slice.values.size()},
-                                  {"edit_evaluations", slice.edit_evaluations},
-                                  {"points_per_second", points / seconds},
-                                  {"edit_evaluations_per_second", static_cast<double>(slice.edit_evaluations) / seconds},
-                                  {"accuracy", {{"reference", "host double precision"},
-                                                {"samples", check.samples},
-                                                {"max_abs_error", check.max_abs_error},
-                                                {"mean_abs_error", check.mean_abs_error},
-                                                {"sign_mismatches", check.sign_mismatches}}},
-                                  {"digest", digest}});
+        if (!samples) samples = reference::reference_samples(slice, scene, o.check);
+        report.devices.push_back(device_report(device, evaluator, slice, reference::check_against_reference(slice, *samples)));
+        report.devices_agree = report.devices_agree && report.devices.back().digest == report.devices.front().digest;
         if (!first) first = std::move(slice);
     }
-
-    const auto [lo, hi] = std::minmax_element(first->values.begin(), first->values.end());
-    const auto inside = std::count_if(first->values.begin(), first->values.end(), [](float v) { return v < 0.0f; });
-    if (devices.size() > 1)
-        summary += fmt::format("devices agree bit for bit: {}\n", all_agree ? "yes" : "NO (digests differ)");
-    write_image(reference::slice_image(*first), image_path);
-    summary += fmt::format("field on the slice: min {:.4f}, max {:.4f}, inside {:.1f}%; picture: {}\n", *lo, *hi,
-                           100.0 * static_cast<double>(inside) / static_cast<double>(first->values.size()), image_path);
-
+    describe_slice(*first, report);
+    write_image(reference::slice_image(*first), report.image);
     if (o.json) {
-        const nlohmann::json report = {
-            {"command", "eval"},
-            {"scene", {{"file", o.file}, {"name", scene.name}, {"time", t}, {"objects", scene.objects.size()}, {"edits", edits}}},
-            {"slice", {{"axis", o.axis}, {"offset", first->offset}, {"width", first->width}, {"height", first->height},
-                       {"pixel_size", first->pixel_size}}},
-            {"field", {{"min", *lo}, {"max", *hi}, {"inside_fraction", static_cast<double>(inside) / static_cast<double>(first->values.size())}}},
-            {"devices", report_devices},
-            {"devices_agree", all_agree},
-            {"image", image_path}};
-        write_file_atomic(*o.json, format_json(report));
-        summary += fmt::format("report: {}\n", *o.json);
+        write_file_atomic(*o.json, format_json(to_json(report)));
+        report.json_path = *o.json;
     }
-    std::fputs(summary.c_str(), stdout);
+    std::fputs(to_text(report).c_str(), stdout);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "reference/accuracy.h"
 #include "render/brick_tracer.h"
 #include "render/pictures.h"
+#include "pipeline/report.h"
 #include "pipeline/run.h"
 #include "reference/device_tracer.h"
 #include "scene/scene_json.h"
@@ -76,112 +77,217 @@ Image picture(const std::string& mode, const RenderBuffer& b, const Image& shade
     return normal_image(b);
 }
 
-// What one device did.
-struct DeviceRender {
-    RenderBuffer buffer;
-    Image shaded;
-    std::optional<reference::ReferenceResult> reference;
-    std::optional<reference::AccuracyMetrics> accuracy;
-    nlohmann::json json;
+// A device's BVH read back and checked against its bricks: with several devices the trees must
+// agree too, and be valid.
+struct TreeCheck {
     std::string digest;
+    std::string problems;  // "" when every geometry's tree is valid
 };
 
-DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
-                       const construct::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_trees,
-                       std::string& text) {
-    DeviceRender r;
-    const SdfCamera camera = make_camera(scene.camera, o.trace.width, o.trace.height);
-    const double pixels = static_cast<double>(o.trace.width) * o.trace.height;
-    text += fmt::format("device {} [{}]\n", device.info().index, device.info().name);
-    r.json = {{"device", device.info().to_json()}};
-    nlohmann::json stages = nlohmann::json::array();
-    if (!o.reference) {
-        construct::BuildSettings settings = base_settings;
-        render::TraceSettings trace = o.trace;
-        tune::Given given = o.flags.given();
-        given.trace_group = o.trace_group_given;
-        const tune::Applied tuning = tune::apply_tuning(tuning_db, device.info(), given, settings, &trace);
-        text += "  " + tuning.text + "\n";
-        r.json["tuning"] = tuning.record;
-        pipeline::Runner runner(device);
-        pipeline::Run run = runner.run(scene, {pipeline::Work::trace, settings, trace, o.measure.warmups(), o.measure.repeat});
-        const render::SceneBricks& bricks = run.bricks;
-        r.digest = run.trace_digest;
-        r.buffer = std::move(run.trace->buffer);
-        r.shaded = std::move(run.trace->colour);
-        const double trace_ms = run.trace_ms.median;
-        std::map<std::string, std::uint64_t> memory = bricks.bvh.memory;
-        for (const auto& b : bricks.builds)
-            for (const auto& [k, v] : b.memory) memory[k] += v;
-        if (bricks.combined_pool) memory["combined pool"] = bricks.combined_pool->bytes();
-        const render::WorkCounts work = render::work_counts(r.buffer);
-        stages = measure::to_json(run.stages);
-        r.json["settings"] = settings_json(settings);
-        r.json["trace_group"] = {trace.group_x, trace.group_y};
-        r.json["stages"] = stages;
-        r.json["build_ms"] = measure::to_json(run.build_ms);
-        r.json["bvh_ms"] = measure::to_json(run.bvh_ms);
-        r.json["trace_ms"] = measure::to_json(run.trace_ms);
-        r.json["captures"] = {{"warmup", o.measure.warmups()}, {"repeat", o.measure.repeat}, {"identical", run.identical}};
-        r.json["bricks"] = bricks.bricks;
-        r.json["bvh"] = {{"nodes", bricks.bvh.node_count}, {"tlas_nodes", bricks.bvh.tlas_node_count},
-                         {"instances", bricks.bvh.instance_objects.size()}, {"device_ms", bricks.bvh.device_ms}};
-        r.json["memory"] = memory;
-        r.json["rays_per_second"] = trace_ms > 0 ? pixels / (trace_ms * 1e-3) : 0.0;
-        r.json["work_per_pixel"] = {{"node_visits", work.node_visits}, {"brick_steps", work.brick_steps}};
-        r.json["digest"] = r.digest;
-        r.json["voxel_world"] = bricks.voxel_world;
-        const std::vector<measure::KernelRow> kernels = measure::kernel_rows(run.captures, device.info());
-        r.json["kernels"] = measure::to_json(kernels);
-        text += fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
-                            "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
-                            run.build_ms.median, bricks.bricks, run.bvh_ms.median, bricks.bvh.node_count, trace_ms,
-                            pixels / (trace_ms * 1e-3), work.node_visits, work.brick_steps,
-                            trace.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(run.stages, measure::Stage::shade)) : "");
-        if (o.measure.repeat > 1) text += measure::stage_table_text(run.stages, run.identical);
-        if (o.measure.kernel_stats) text += measure::kernel_table_text(kernels);
-        if (check_trees) {  // several devices: the trees must agree too (and be valid)
-            const std::vector<SdfBvhNode> nodes = bricks.bvh.nodes->read();
-            r.json["bvh_digest"] = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
-            std::string problems;
-            for (std::size_t g = 0; g < bricks.builds.size(); ++g) {
-                const std::vector<SdfBounds> boxes = bricks.builds[g].aabbs->read();
-                const std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
-                if (!p.empty()) problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);
-            }
-            r.json["bvh_valid"] = problems.empty();
-            if (!problems.empty()) text += "  BVH INVALID: " + problems + "\n";
+// The reference tracer's figures (its image goes to the pictures, not the report).
+struct ReferenceFigures {
+    double device_ms = 0.0;
+    std::uint64_t march_steps = 0, hit_pixels = 0, unconverged_pixels = 0, fallback_points = 0, overflow_points = 0;
+};
+
+// A brick render: the settings used, the run's figures and what was checked.
+struct BrickRender {
+    construct::BuildSettings settings;  // with the tuning applied
+    tune::Applied tuning;
+    pipeline::RenderFigures figures;
+    std::optional<TreeCheck> tree;                       // several devices
+    std::optional<reference::AccuracyMetrics> accuracy;  // --compare
+};
+
+// One device's part of the render report.
+struct DeviceRenderReport {
+    ocl::DeviceInfo device;
+    std::optional<BrickRender> bricks;          // not with --reference
+    std::optional<ReferenceFigures> reference;  // --reference or --compare
+    std::string digest;                         // of the image (hit and aux buffers)
+    std::string difference;                     // from the first device; "" when bit-identical
+};
+
+// The whole command's report.
+struct RenderReport {
+    std::string file, scene;
+    double time = 0.0;
+    std::size_t objects = 0, geometries = 0;
+    construct::BuildSettings settings;  // as given (each device applies its tuning)
+    int width = 0, height = 0;
+    std::string mode, method, normals;
+    bool reference = false;
+    int repeat = 1, warmup = 0;
+    std::optional<std::pair<int, int>> shade_rays;  // shaded mode: shadow and ambient occlusion rays per pixel
+    std::vector<DeviceRenderReport> devices;
+    bool devices_agree = true;
+    std::string image;
+    std::optional<std::pair<std::string, std::string>> comparison_images;  // --compare: reference, difference
+    std::optional<std::string> json_path;
+};
+
+ReferenceFigures reference_figures(const reference::ReferenceResult& r) {
+    return {r.device_ms, r.march_steps, r.hit_pixels, r.unconverged_pixels, r.fallback_points, r.overflow_points};
+}
+
+nlohmann::json to_json(const ReferenceFigures& r) {
+    return {{"device_ms", r.device_ms},
+            {"march_steps", r.march_steps},
+            {"hit_pixels", r.hit_pixels},
+            {"unconverged_pixels", r.unconverged_pixels},
+            {"fallback_points", r.fallback_points},
+            {"overflow_points", r.overflow_points}};
+}
+
+std::string accuracy_text(const reference::AccuracyMetrics& a) {
+    return fmt::format("  accuracy vs reference: hit mismatch {:.4f}%, depth error mean {:.4f} p99 {:.4f} max "
+                       "{:.3f} voxels, normal error mean {:.3f} p99 {:.3f} deg, PSNR {:.2f} dB{}\n",
+                       100.0 * a.mismatch_fraction, a.depth_error_mean, a.depth_error_p99, a.depth_error_max,
+                       a.normal_error_mean_deg, a.normal_error_p99_deg, a.psnr_db,
+                       a.reference_unconverged
+                           ? fmt::format(" ({} reference pixels unconverged)", a.reference_unconverged)
+                           : "");
+}
+
+nlohmann::json to_json(const DeviceRenderReport& d) {
+    nlohmann::json j = {{"device", d.device.to_json()}, {"digest", d.digest}, {"stages", nlohmann::json::array()}};
+    if (d.bricks) {
+        const BrickRender& b = *d.bricks;
+        j.update(pipeline::to_json(b.figures));
+        j["tuning"] = b.tuning.record;
+        j["settings"] = settings_json(b.settings);
+        if (b.tree) {
+            j["bvh_digest"] = b.tree->digest;
+            j["bvh_valid"] = b.tree->problems.empty();
         }
-        if (o.compare) {
-            reference::ReferenceTracer ref(device);
-            r.reference = ref.render(scene, camera);
-            r.accuracy = reference::compare(r.buffer, r.reference->image, bricks.voxel_world);
-            const reference::AccuracyMetrics& a = *r.accuracy;
-            r.json["accuracy"] = reference::to_json(a);
-            text += fmt::format("  accuracy vs reference: hit mismatch {:.4f}%, depth error mean {:.4f} p99 {:.4f} max "
-                                "{:.3f} voxels, normal error mean {:.3f} p99 {:.3f} deg, PSNR {:.2f} dB{}\n",
-                                100.0 * a.mismatch_fraction, a.depth_error_mean, a.depth_error_p99, a.depth_error_max,
-                                a.normal_error_mean_deg, a.normal_error_p99_deg, a.psnr_db,
-                                a.reference_unconverged ? fmt::format(" ({} reference pixels unconverged)",
-                                                                      a.reference_unconverged)
-                                                        : "");
-        }
-    } else {
-        reference::ReferenceTracer ref(device);
-        r.reference = ref.render(scene, camera);
-        r.buffer = r.reference->image;
-        r.digest = pipeline::buffer_digest(r.buffer);
-        r.json["digest"] = r.digest;
+        if (b.accuracy) j["accuracy"] = reference::to_json(*b.accuracy);
     }
-    if (r.reference) {
-        const reference::ReferenceResult& ref = *r.reference;
-        stages.push_back({{"name", "reference"}, {"device_ms", ref.device_ms}});
-        r.json["stages"] = stages;
-        r.json["reference"] = {{"device_ms", ref.device_ms}, {"march_steps", ref.march_steps},
-                               {"hit_pixels", ref.hit_pixels}, {"unconverged_pixels", ref.unconverged_pixels},
-                               {"fallback_points", ref.fallback_points}, {"overflow_points", ref.overflow_points}};
-        text += fmt::format("  reference tracer {:.3f} ms ({} hits, {} unconverged)\n", ref.device_ms, ref.hit_pixels,
-                            ref.unconverged_pixels);
+    if (d.reference) {
+        j["stages"].push_back({{"name", "reference"}, {"device_ms", d.reference->device_ms}});
+        j["reference"] = to_json(*d.reference);
+    }
+    return j;
+}
+
+std::string to_text(const DeviceRenderReport& d, bool kernel_table) {
+    std::string s = fmt::format("device {} [{}]\n", d.device.index, d.device.name);
+    if (d.bricks) {
+        const BrickRender& b = *d.bricks;
+        s += "  " + b.tuning.text + "\n";
+        s += pipeline::to_text(b.figures, kernel_table);
+        if (b.tree && !b.tree->problems.empty()) s += "  BVH INVALID: " + b.tree->problems + "\n";
+        if (b.accuracy) s += accuracy_text(*b.accuracy);
+    }
+    if (d.reference)
+        s += fmt::format("  reference tracer {:.3f} ms ({} hits, {} unconverged)\n", d.reference->device_ms,
+                         d.reference->hit_pixels, d.reference->unconverged_pixels);
+    return s;
+}
+
+nlohmann::json to_json(const RenderReport& r) {
+    nlohmann::json devices = nlohmann::json::array();
+    for (const DeviceRenderReport& d : r.devices) devices.push_back(to_json(d));
+    const nlohmann::json& first = devices.at(0);
+    nlohmann::json settings = first.value("settings", settings_json(r.settings));
+    settings.update({{"width", r.width}, {"height", r.height}, {"mode", r.mode}, {"method", r.method},
+                     {"normals", r.normals}, {"reference", r.reference}, {"repeat", r.repeat}, {"warmup", r.warmup}});
+    if (r.shade_rays) settings.update({{"shadow_rays", r.shade_rays->first}, {"ao_rays", r.shade_rays->second}});
+    nlohmann::json images = {{"image", r.image}};
+    if (r.comparison_images) {
+        images["reference"] = r.comparison_images->first;
+        images["difference"] = r.comparison_images->second;
+    }
+    nlohmann::json report = {
+        {"command", "render"},
+        {"scene", {{"file", r.file}, {"name", r.scene}, {"time", r.time}, {"objects", r.objects},
+                   {"geometries", r.geometries}}},
+        {"settings", settings},
+        {"images", images},
+        {"devices", devices},
+        {"devices_agree", r.devices_agree}};
+    for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "digest", "tuning"})
+        if (first.contains(key)) report[key] = first[key];
+    return report;
+}
+
+std::string to_text(const RenderReport& r, bool kernel_table) {
+    const construct::BuildSettings& s = r.settings;
+    std::string text = fmt::format("render {} ({}), t = {} s: {}x{}, mode {}, ", r.scene, r.file, r.time, r.width,
+                                   r.height, r.mode);
+    text += r.reference ? "reference tracer (analytic edits)\n"
+                        : fmt::format("method {}, normals {}; bricks {} {}, {}^3 samples, culling {}\n", r.method,
+                                      r.normals, s.leaf_size, construct::to_string(s.format), s.samples,
+                                      s.cull ? "on" : "off");
+    for (const DeviceRenderReport& d : r.devices) {
+        text += to_text(d, kernel_table);
+        if (!d.difference.empty())
+            text += fmt::format("  differs from device {}: {}\n", r.devices.front().device.index, d.difference);
+    }
+    if (r.devices.size() > 1) text += fmt::format("devices agree bit for bit: {}\n", r.devices_agree ? "yes" : "NO");
+    text += fmt::format("image: {}\n", r.image);
+    if (r.comparison_images)
+        text += fmt::format("reference image: {}, difference image: {}\n", r.comparison_images->first,
+                            r.comparison_images->second);
+    if (r.json_path) text += fmt::format("report: {}\n", *r.json_path);
+    return text;
+}
+
+// What one device rendered: its report and the buffers the pictures and the device comparison need.
+struct DeviceRender {
+    DeviceRenderReport report;
+    RenderBuffer buffer;
+    Image shaded;
+    std::optional<RenderBuffer> reference;  // the reference tracer's image
+};
+
+TreeCheck check_trees(const render::SceneBricks& bricks) {
+    TreeCheck c;
+    const std::vector<SdfBvhNode> nodes = bricks.bvh.nodes->read();
+    c.digest = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
+    for (std::size_t g = 0; g < bricks.builds.size(); ++g) {
+        const std::vector<SdfBounds> boxes = bricks.builds[g].aabbs->read();
+        const std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
+        if (!p.empty()) c.problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);
+    }
+    return c;
+}
+
+void render_bricks(ocl::Device& device, const Scene& scene, const RenderOptions& o,
+                   const construct::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_tree,
+                   DeviceRender& r) {
+    BrickRender b;
+    b.settings = base_settings;
+    render::TraceSettings trace = o.trace;
+    tune::Given given = o.flags.given();
+    given.trace_group = o.trace_group_given;
+    b.tuning = tune::apply_tuning(tuning_db, device.info(), given, b.settings, &trace);
+    const pipeline::RunSpec spec{pipeline::Work::trace, b.settings, trace, o.measure.warmups(), o.measure.repeat};
+    pipeline::Runner runner(device);
+    pipeline::Run run = runner.run(scene, spec);
+    b.figures = pipeline::render_figures(run, spec, device.info());
+    if (check_tree) b.tree = check_trees(run.bricks);
+    r.report.digest = run.trace_digest;
+    r.buffer = std::move(run.trace->buffer);
+    r.shaded = std::move(run.trace->colour);
+    r.report.bricks = std::move(b);
+}
+
+DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
+                       const construct::BuildSettings& settings, const tune::TuningDb* tuning_db, bool check_tree) {
+    DeviceRender r;
+    r.report.device = device.info();
+    if (!o.reference) render_bricks(device, scene, o, settings, tuning_db, check_tree, r);
+    if (o.reference || o.compare) {
+        reference::ReferenceTracer tracer(device);
+        reference::ReferenceResult result = tracer.render(scene, make_camera(scene.camera, o.trace.width, o.trace.height));
+        r.report.reference = reference_figures(result);
+        r.reference = std::move(result.image);
+    }
+    if (o.reference) {
+        r.buffer = *r.reference;
+        r.report.digest = pipeline::buffer_digest(r.buffer);
+    } else if (o.compare) {
+        r.report.bricks->accuracy = reference::compare(r.buffer, *r.reference, r.report.bricks->figures.voxel_world);
     }
     return r;
 }
@@ -209,6 +315,53 @@ std::filesystem::path with_suffix(const std::filesystem::path& p, const std::str
     return p.parent_path() / (p.stem().string() + suffix + p.extension().string());
 }
 
+// The report's scene and setup, before any device ran.
+RenderReport report_setup(const RenderOptions& o, const Scene& scene, double time,
+                          const construct::BuildSettings& settings) {
+    RenderReport r;
+    r.file = o.file;
+    r.scene = scene.name;
+    r.time = time;
+    r.objects = scene.objects.size();
+    r.geometries = scene.geometries.size();
+    r.settings = settings;
+    r.width = o.trace.width;
+    r.height = o.trace.height;
+    r.mode = o.mode;
+    r.method = o.method;
+    r.normals = o.normals;
+    r.reference = o.reference;
+    r.repeat = o.measure.repeat;
+    r.warmup = o.measure.warmups();
+    if (o.trace.shade) r.shade_rays = {o.trace.shadow_rays, o.trace.ao_rays};
+    return r;
+}
+
+// Bit-identical images and, where checked, identical trees on every device.
+bool devices_agree(const RenderReport& r) {
+    const auto tree_digest = [](const DeviceRenderReport& d) {
+        return d.bricks && d.bricks->tree ? d.bricks->tree->digest : std::string();
+    };
+    return std::all_of(r.devices.begin(), r.devices.end(), [&](const DeviceRenderReport& d) {
+        return d.difference.empty() && tree_digest(d) == tree_digest(r.devices.front());
+    });
+}
+
+// Writes the picture of the first device's render (and with --compare the reference and difference
+// pictures) and records their paths in the report.
+void write_pictures(const RenderOptions& o, const DeviceRender& first, const std::filesystem::path& out,
+                    RenderReport& report) {
+    write_image(picture(o.mode, first.buffer, first.shaded, out), out);
+    report.image = out.string();
+    if (!o.compare) return;
+    const auto ref_path = with_suffix(out, "-reference");
+    const auto diff_path = with_suffix(out, "-difference");
+    write_image(picture(o.mode == "depth" ? "depth" : "normals", *first.reference, {}, ref_path), ref_path);
+    write_image(reference::difference_image(first.buffer, *first.reference, first.report.bricks->figures.voxel_world),
+                diff_path);
+    report.comparison_images = {ref_path.string(), diff_path.string()};
+}
+
 void run_render(RenderOptions o, const GlobalOptions& global) {
     apply_global_options(global);
     const construct::BuildSettings settings = o.flags.resolve();
@@ -234,59 +387,25 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const std::filesystem::path out = o.out.value_or(fmt::format("{}-{}.{}", scene.name.empty() ? "scene" : scene.name,
                                                                  o.mode, image_io_has_oiio() ? "png" : "ppm"));
 
-    std::string text = fmt::format("render {} ({}), t = {} s: {}x{}, mode {}, ", scene.name, o.file, t, o.trace.width,
-                                   o.trace.height, o.mode);
-    text += o.reference ? "reference tracer (analytic edits)\n"
-                        : fmt::format("method {}, normals {}; bricks {} {}, {}^3 samples, culling {}\n", o.method,
-                                      o.normals, settings.leaf_size, construct::to_string(settings.format),
-                                      settings.samples, settings.cull ? "on" : "off");
-    std::vector<DeviceRender> runs;
-    nlohmann::json device_reports = nlohmann::json::array();
-    bool agree = true;
+    RenderReport report = report_setup(o, scene, t, settings);
+    std::optional<DeviceRender> first;
     for (ocl::Device& device : devices) {
-        runs.push_back(render_on(device, scene, o, settings, tuning.get(), devices.size() > 1, text));
-        device_reports.push_back(runs.back().json);
-        if (runs.size() > 1) {
-            const std::string diff = difference_text(runs.front().buffer, runs.back().buffer);
-            agree = agree && diff.empty() && runs.back().json.value("bvh_digest", "") == runs.front().json.value("bvh_digest", "");
-            if (!diff.empty()) text += fmt::format("  differs from device {}: {}\n", devices[0].info().index, diff);
+        DeviceRender r = render_on(device, scene, o, settings, tuning.get(), devices.size() > 1);
+        if (first) {
+            r.report.difference = difference_text(first->buffer, r.buffer);
+            report.devices.push_back(std::move(r.report));
+        } else {
+            report.devices.push_back(r.report);
+            first = std::move(r);
         }
     }
-    if (devices.size() > 1) text += fmt::format("devices agree bit for bit: {}\n", agree ? "yes" : "NO");
-
-    const DeviceRender& first = runs.front();
-    write_image(picture(o.mode, first.buffer, first.shaded, out), out);
-    text += fmt::format("image: {}\n", out.string());
-    nlohmann::json images = {{"image", out.string()}};
-    if (o.compare) {
-        const auto ref_path = with_suffix(out, "-reference");
-        const auto diff_path = with_suffix(out, "-difference");
-        write_image(picture(o.mode == "depth" ? "depth" : "normals", first.reference->image, {}, ref_path), ref_path);
-        write_image(reference::difference_image(first.buffer, first.reference->image, first.json["voxel_world"]), diff_path);
-        images["reference"] = ref_path.string();
-        images["difference"] = diff_path.string();
-        text += fmt::format("reference image: {}, difference image: {}\n", ref_path.string(), diff_path.string());
-    }
+    report.devices_agree = devices_agree(report);
+    write_pictures(o, *first, out, report);
     if (o.json) {
-        nlohmann::json settings_record = first.json.value("settings", settings_json(settings));
-        settings_record.update({{"width", o.trace.width}, {"height", o.trace.height}, {"mode", o.mode},
-                                {"method", o.method}, {"normals", o.normals}, {"reference", o.reference},
-                                {"repeat", o.measure.repeat}, {"warmup", o.measure.warmups()}});
-        if (o.trace.shade) settings_record.update({{"shadow_rays", o.trace.shadow_rays}, {"ao_rays", o.trace.ao_rays}});
-        nlohmann::json report = {
-            {"command", "render"},
-            {"scene", {{"file", o.file}, {"name", scene.name}, {"time", t}, {"objects", scene.objects.size()},
-                       {"geometries", scene.geometries.size()}}},
-            {"settings", settings_record},
-            {"images", images},
-            {"devices", device_reports},
-            {"devices_agree", agree}};
-        for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "digest", "tuning"})
-            if (first.json.contains(key)) report[key] = first.json[key];
-        write_file_atomic(*o.json, format_json(report));
-        text += fmt::format("report: {}\n", *o.json);
+        write_file_atomic(*o.json, format_json(to_json(report)));
+        report.json_path = *o.json;
     }
-    std::fputs(text.c_str(), stdout);
+    std::fputs(to_text(report, o.measure.kernel_stats).c_str(), stdout);
 }
 
 }  // namespace

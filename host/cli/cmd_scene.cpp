@@ -33,8 +33,8 @@ struct GenerateOptions {
 void run_info(const InfoOptions& o) {
     Scene scene = load_scene(o.file);
     if (o.time) scene.time = *o.time;
-    nlohmann::json summary = scene_summary(scene);
-    summary["file"] = o.file;
+    SceneSummary summary = scene_summary(scene);
+    summary.file = o.file;
     if (o.leaf_size) {
         if (!(*o.leaf_size > 0.0)) throw InputError(fmt::format("--bricks: leaf size must be > 0, got {}", *o.leaf_size));
         const Scene at_t = scene_at(scene, scene.time);
@@ -44,14 +44,13 @@ void run_info(const InfoOptions& o) {
             if (b.empty()) continue;
             const auto domain = construct::make_domain(b, *o.leaf_size, o.branching);
             const auto start = std::chrono::steady_clock::now();
-            const auto per_level = reference::count_surface_cells(g, domain);
+            auto per_level = reference::count_surface_cells(g, domain);
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            summary["geometries"][i]["surface_cells"] = {{"leaf_size", *o.leaf_size}, {"branching", o.branching},
-                                                         {"levels", domain.levels}, {"per_level", per_level},
-                                                         {"leaves", per_level.back()}, {"seconds", seconds}};
+            summary.geometries[i].surface_cells =
+                SurfaceCells{*o.leaf_size, o.branching, domain.levels, std::move(per_level), seconds};
         }
     }
-    std::fputs(o.json ? format_json(summary).c_str() : scene_summary_text(summary).c_str(), stdout);
+    std::fputs(o.json ? format_json(to_json(summary)).c_str() : to_text(summary).c_str(), stdout);
 }
 
 void run_generate(const GenerateOptions& o) {

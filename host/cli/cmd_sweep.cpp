@@ -3,6 +3,7 @@
 // CSV and JSON; resumable, shardable. `sdfbrick merge` joins the shards. docs/sweep.md.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -86,17 +87,16 @@ void run_sweep(const SweepOptions& o, const GlobalOptions& global) {
         std::fprintf(stderr, "%-150.150s%s", line.c_str(), p.current.empty() ? "\n" : "");
         std::fflush(stderr);
     };
-    const std::vector<sweep::Row> rows = sweep::run_points(spec, points, devices, tuning.get(), cache, progress);
-    std::size_t errors = 0;
-    for (const sweep::Row& r : rows) errors += r.value("status", "") != "ok";
+    const std::vector<sweep::SweepRow> rows = sweep::run_points(spec, points, devices, tuning.get(), cache, progress);
+    const auto errors = static_cast<std::size_t>(
+        std::count_if(rows.begin(), rows.end(), [](const sweep::SweepRow& r) { return !r.ok(); }));
     write_file_atomic(o.out + ".csv", sweep::to_csv(rows));
     write_file_atomic(o.out + ".json", format_json(sweep::sweep_document(spec, shard, grid.size(), rows)));
     std::printf("sweep: %zu points of %zu in the grid (shard %zu/%zu), %zu failed; wrote %s.csv and %s.json\n", rows.size(),
                 grid.size(), shard.index, shard.count, errors, o.out.c_str(), o.out.c_str());
-    for (const sweep::Row& r : rows)
-        if (r.value("status", "") != "ok")
-            std::printf("  point %zu (%s): %s\n", r.value("index", std::size_t{0}), r.value("key", "").c_str(),
-                        r.value("error", "").c_str());
+    for (const sweep::SweepRow& r : rows)
+        if (!r.ok())
+            std::printf("  point %zu (%s): %s\n", r.index, r.key.c_str(), r.error.value_or("").c_str());
 }
 
 void run_merge(const std::vector<std::string>& files, const std::string& out) {
@@ -104,7 +104,7 @@ void run_merge(const std::vector<std::string>& files, const std::string& out) {
     for (const std::string& f : files) docs.push_back(load_json(f));
     const sweep::Merged m = sweep::merge(docs, files);
     nlohmann::json doc = docs.front();
-    doc["points"] = m.rows;
+    doc["points"] = sweep::to_json(m.rows);
     doc["shard"] = {{"index", 0}, {"count", 1}};
     doc["merged_from"] = files;
     doc["complete"] = m.complete;

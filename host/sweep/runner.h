@@ -1,6 +1,6 @@
-// Running sweep points, their resume cache, CSV/JSON output and merging shards. Each point
-// runs the measured pipeline (pipeline/pipeline.h) and, with accuracy on, the reference tracer with the
-// same camera; its result is one flat row (the CSV columns, docs/sweep.md).
+// Running sweep points, their resume cache, JSON output and merging shards. Each point runs the
+// measured pipeline (pipeline/run.h) and, with accuracy on, the reference tracer with the same
+// camera; its result is one SweepRow (sweep/row.h: the CSV and JSON columns, docs/sweep.md).
 #pragma once
 
 #include <filesystem>
@@ -13,31 +13,24 @@
 
 #include "cl/device.h"
 #include "sweep/grid.h"
+#include "sweep/row.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick::sweep {
 
-using Row = nlohmann::json;
-
-// Every CSV column, in order (parameters, outcome, results).
-const std::vector<std::string>& csv_columns();
-// One line per row: the columns above; an absent or null value is an empty cell; text is quoted
-// when it holds a comma, a quote or a line break.
-std::string to_csv(const std::vector<Row>& rows);
-
 // Finished points, one JSON object per line ({"key": ..., "row": {...}}), appended (and flushed) as
 // each point finishes, so that a killed sweep resumes where it stopped. A damaged last line (a write
-// cut short) is ignored.
+// cut short) is ignored, and so is a row that does not read back.
 class ResultCache {
 public:
     explicit ResultCache(std::filesystem::path path);
-    const Row* find(const std::string& key) const;
-    void add(const std::string& key, const Row& row);
+    const SweepRow* find(const std::string& key) const;
+    void add(const std::string& key, const SweepRow& row);
     std::size_t size() const { return rows_.size(); }
 
 private:
     std::filesystem::path path_;
-    std::map<std::string, Row> rows_;
+    std::map<std::string, SweepRow> rows_;
     bool cut_ = false;  // the file does not end with a line break (a write cut short)
 };
 
@@ -49,7 +42,7 @@ struct Progress {
 
 // Runs points on devices (matched by SweepPoint::device, see device_label), skipping those in the
 // cache. tuning: may be null. progress: called before each point and once at the end.
-std::vector<Row> run_points(const SweepSpec& spec, const std::vector<SweepPoint>& points, ocl::DeviceSet& devices,
+std::vector<SweepRow> run_points(const SweepSpec& spec, const std::vector<SweepPoint>& points, ocl::DeviceSet& devices,
                             const tune::TuningDb* tuning, ResultCache& cache,
                             const std::function<void(const Progress&)>& progress);
 
@@ -59,10 +52,10 @@ std::vector<std::string> device_labels(const ocl::DeviceSet& devices);
 
 // The sweep's JSON document: {"command": "sweep", "spec", "shard": {"index", "count"}, "grid_points",
 // "points": [rows]}.
-nlohmann::json sweep_document(const SweepSpec& spec, Shard shard, std::size_t grid_points, const std::vector<Row>& rows);
+nlohmann::json sweep_document(const SweepSpec& spec, Shard shard, std::size_t grid_points, const std::vector<SweepRow>& rows);
 
 struct Merged {
-    std::vector<Row> rows;          // in grid order when every input has the same spec
+    std::vector<SweepRow> rows;          // in grid order when every input has the same spec
     std::vector<std::string> notes; // duplicates, missing shards or points, differing specs
     bool complete = false;          // one spec, every shard present, every grid point present
 };

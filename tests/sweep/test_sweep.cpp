@@ -125,8 +125,21 @@ TEST(Sweep, ShardsPartitionTheGrid) {
 }
 
 // A fake finished row for a point (what run_points would record).
-sweep::Row fake_row(const sweep::SweepSpec& s, const sweep::SweepPoint& p) {
-    return {{"index", p.index}, {"key", p.key(s)}, {"scene", p.scene}, {"status", "ok"}, {"build_ms", 1.0 + static_cast<double>(p.index)}};
+sweep::SweepRow fake_row(const sweep::SweepSpec& s, const sweep::SweepPoint& p) {
+    sweep::SweepRow r;
+    r.index = p.index;
+    r.key = p.key(s);
+    r.scene = p.scene;
+    r.status = "ok";
+    r.results.emplace().build_ms.median = 1.0 + static_cast<double>(p.index);
+    return r;
+}
+
+// A row with results: build time only.
+sweep::SweepRow build_ms_row(double ms) {
+    sweep::SweepRow r;
+    r.results.emplace().build_ms.median = ms;
+    return r;
 }
 
 TEST(Sweep, MergeJoinsShardsAndReportsWhatIsMissing) {
@@ -134,7 +147,7 @@ TEST(Sweep, MergeJoinsShardsAndReportsWhatIsMissing) {
     const auto grid = sweep::expand(s, {"gpu"});
     std::vector<nlohmann::json> docs;
     for (std::size_t i = 0; i < 3; ++i) {
-        std::vector<sweep::Row> rows;
+        std::vector<sweep::SweepRow> rows;
         for (const auto& p : sweep::shard_points(grid, {i, 3})) rows.push_back(fake_row(s, p));
         docs.push_back(sweep::sweep_document(s, {i, 3}, grid.size(), rows));
     }
@@ -142,7 +155,7 @@ TEST(Sweep, MergeJoinsShardsAndReportsWhatIsMissing) {
     EXPECT_TRUE(all.complete);
     EXPECT_TRUE(all.notes.empty());
     ASSERT_EQ(all.rows.size(), grid.size());
-    for (std::size_t i = 0; i < grid.size(); ++i) EXPECT_EQ(all.rows[i]["index"], i) << "rows back in grid order";
+    for (std::size_t i = 0; i < grid.size(); ++i) EXPECT_EQ(all.rows[i].index, i) << "rows back in grid order";
 
     const sweep::Merged part = sweep::merge({docs[0], docs[2]}, {"a", "c"});
     EXPECT_FALSE(part.complete);
@@ -160,8 +173,12 @@ TEST(Sweep, MergeJoinsShardsAndReportsWhatIsMissing) {
 }
 
 TEST(Sweep, CsvHasEveryColumnAndQuotesText) {
-    sweep::Row r = {{"scene", "drops"}, {"status", "error"}, {"error", "bad, \"quoted\"\nline"}, {"cull", true},
-                    {"evaluate_occupancy", nullptr}, {"brick_size", 0.125}};
+    sweep::SweepRow r;
+    r.scene = "drops";
+    r.status = "error";
+    r.error = "bad, \"quoted\"\nline";
+    r.cull = true;
+    r.brick_size = 0.125;
     const std::string csv = sweep::to_csv({r});
     const std::string header = csv.substr(0, csv.find('\n'));
     EXPECT_EQ(std::count(header.begin(), header.end(), ',') + 1, static_cast<long>(sweep::csv_columns().size()));
@@ -171,13 +188,73 @@ TEST(Sweep, CsvHasEveryColumnAndQuotesText) {
     EXPECT_NE(row.find("drops"), std::string::npos);
 }
 
+// The CSV header is the column list, in the order the sweep has always written (tools/sweep_charts.py
+// and docs/sweep.md read it); the JSON-only key is not a CSV column.
+TEST(Sweep, CsvHeaderIsTheColumnList) {
+    const std::vector<std::string> names = sweep::csv_columns();
+    std::string joined;
+    for (const std::string& n : names) joined += (joined.empty() ? "" : ",") + n;
+    const std::string csv = sweep::to_csv({});
+    EXPECT_EQ(csv, joined + "\n");
+    EXPECT_EQ(joined,
+              "index,scene,scene_file,device,vendor,driver,platform,brick_size,chunk,group,trace_group,cull,format,"
+              "samples,method,normals,width,height,status,error,repeats,identical,bricks,levels,edit_evaluations,"
+              "memory_bytes,build_ms,build_min_ms,build_max_ms,build_cv,trace_ms,trace_min_ms,trace_max_ms,trace_cv,"
+              "bvh_ms,stage_edit_bounds_ms,stage_dependencies_ms,stage_count_ms,stage_scan_ms,stage_subdivide_ms,"
+              "stage_cull_ms,stage_evaluate_ms,stage_aabb_ms,evaluate_local_bytes,evaluate_registers,"
+              "evaluate_groups_per_cu,evaluate_resident_groups,evaluate_occupancy,evaluate_waves,"
+              "evaluations_per_second,write_gbps,bandwidth_fraction,peak_bandwidth_gbps,peak_fma_gflops,mismatch,"
+              "depth_mean,depth_p99,normal_mean,normal_p99,psnr");
+    std::vector<std::string> all;
+    for (const sweep::Column& c : sweep::columns()) all.push_back(c.name);
+    EXPECT_EQ(all.size(), names.size() + 1);
+    EXPECT_EQ(all.back(), "key");
+}
+
+// A row goes to JSON and back unchanged; parts a row lacks leave their keys out, unknown values are null.
+TEST(Sweep, RowsReadBackFromTheirJson) {
+    sweep::SweepRow ok;
+    ok.index = 7;
+    ok.scene = "drops";
+    ok.chunk = 32;
+    ok.trace_group = "16x8";
+    ok.key = "k";
+    sweep::PointResults& r = ok.results.emplace();
+    r.bricks = 1234;
+    r.build_ms.median = 2.5;
+    r.build_ms.cv = 0.01;
+    r.stage_ms.back() = 0.25;
+    r.evaluate = sweep::EvaluateOccupancy{4096, std::nullopt, 3, std::nullopt, std::nullopt, 1.5};
+    r.accuracy = sweep::PointAccuracy{0.001, 0.05, 0.2, 0.9, 3.5, std::nullopt};
+    const nlohmann::json j = sweep::to_json(ok);
+    EXPECT_EQ(j["bricks"], 1234);
+    EXPECT_EQ(j["build_ms"], 2.5);
+    EXPECT_EQ(j["stage_aabb_ms"], 0.25);
+    EXPECT_EQ(j["evaluate_groups_per_cu"], 3);
+    EXPECT_TRUE(j["evaluate_registers"].is_null());
+    EXPECT_TRUE(j["psnr"].is_null());
+    EXPECT_TRUE(j["group"].is_null()) << "auto";
+    EXPECT_FALSE(j.contains("error"));
+    EXPECT_FALSE(j.contains("write_gbps")) << "no write bandwidth measured";
+    EXPECT_EQ(sweep::to_json(sweep::row_from_json(j)), j);
+    EXPECT_EQ(sweep::to_csv({sweep::row_from_json(j)}), sweep::to_csv({ok}));
+
+    sweep::SweepRow failed;
+    failed.status = "error";
+    failed.error = "no device";
+    const nlohmann::json e = sweep::to_json(failed);
+    EXPECT_EQ(e["error"], "no device");
+    for (const char* key : {"identical", "bricks", "build_ms", "mismatch"}) EXPECT_FALSE(e.contains(key)) << key;
+    EXPECT_FALSE(sweep::row_from_json(e).results.has_value());
+}
+
 TEST(Sweep, CacheResumesAndSurvivesACutLine) {
     const std::filesystem::path path = test::temp_dir("sweep") / "cache.jsonl";
     std::filesystem::remove(path);
     {
         sweep::ResultCache cache(path);
-        cache.add("k1", {{"build_ms", 1.5}});
-        cache.add("k2", {{"build_ms", 2.5}});
+        cache.add("k1", build_ms_row(1.5));
+        cache.add("k2", build_ms_row(2.5));
     }
     {
         std::ofstream out(path, std::ios::app);
@@ -187,9 +264,9 @@ TEST(Sweep, CacheResumesAndSurvivesACutLine) {
         sweep::ResultCache again(path);
         EXPECT_EQ(again.size(), 2u);
         ASSERT_NE(again.find("k2"), nullptr);
-        EXPECT_EQ((*again.find("k2"))["build_ms"], 2.5);
+        EXPECT_EQ(again.find("k2")->results->build_ms.median, 2.5);
         EXPECT_EQ(again.find("k3"), nullptr);
-        again.add("k3", {{"build_ms", 3.5}});  // the point that was cut short, run again
+        again.add("k3", build_ms_row(3.5));  // the point that was cut short, run again
     }
     sweep::ResultCache third(path);
     EXPECT_EQ(third.size(), 3u) << "a line appended after a cut line is not lost";
@@ -217,7 +294,8 @@ TEST(Sweep, RunsPointsOnTheDeviceAndResumes) {
     const auto rows = sweep::run_points(s, points, devices, nullptr, cache, [&](const sweep::Progress&) { ++calls; });
     ASSERT_EQ(rows.size(), 4u);
     EXPECT_EQ(calls, 5u) << "once per point and once at the end";
-    for (const auto& r : rows) {
+    for (const auto& row : rows) {
+        const nlohmann::json r = sweep::to_json(row);  // the row as the JSON output has it
         ASSERT_EQ(r["status"], "ok") << r.dump();
         EXPECT_GT(r["bricks"].get<double>(), 0);
         EXPECT_GT(r["build_ms"].get<double>(), 0);
@@ -228,10 +306,10 @@ TEST(Sweep, RunsPointsOnTheDeviceAndResumes) {
         EXPECT_LT(r["mismatch"].get<double>(), 0.05);
         EXPECT_LT(r["depth_p99"].get<double>(), 1.0);
         EXPECT_EQ(r["evaluate_local_bytes"].get<double>() >= 16.0 * r["chunk"].get<double>(), true) << r.dump();
-        EXPECT_EQ(r["bricks"], rows[0]["bricks"]);
+        EXPECT_EQ(row.results->bricks, rows[0].results->bricks);
     }
-    EXPECT_EQ(rows[0]["chunk"], 16);
-    EXPECT_EQ(rows[2]["chunk"], 32);
+    EXPECT_EQ(rows[0].chunk, 16);
+    EXPECT_EQ(rows[2].chunk, 32);
     std::size_t cached = 0;
     sweep::ResultCache again(path);
     sweep::run_points(s, points, devices, nullptr, again, [&](const sweep::Progress& p) { cached = p.cached; });
@@ -256,10 +334,9 @@ TEST(Sweep, RefusedValueNamesItsKey) {
     sweep::ResultCache cache(path);
     const auto rows = sweep::run_points(s, points, devices, nullptr, cache, nullptr);
     ASSERT_EQ(rows.size(), 2u);
-    EXPECT_EQ(rows[0]["status"], "error") << rows[0].dump();
-    const std::string error = rows[0].value("error", "");
-    EXPECT_EQ(error.rfind("\"trace_groups\": group_x x group_y = 4096 x 4096", 0), 0u) << error;
-    EXPECT_EQ(rows[1]["status"], "ok") << rows[1].dump();
+    EXPECT_EQ(rows[0].status, "error") << to_json(rows[0]).dump();
+    EXPECT_EQ(rows[0].error.rfind("\"trace_groups\": group_x x group_y = 4096 x 4096", 0), 0u) << rows[0].error;
+    EXPECT_EQ(rows[1].status, "ok") << to_json(rows[1]).dump();
 }
 
 }  // namespace

@@ -1,0 +1,251 @@
+#include "pipeline/report.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace sdfbrick::pipeline {
+
+namespace {
+
+double per_second(double count, double ms) { return ms > 0 ? count / (ms * 1e-3) : 0.0; }
+
+GeometryFigures geometry_figures(const construct::GeometryBuild& b, const measure::Capture& last) {
+    GeometryFigures g;
+    g.name = b.name;
+    g.origin = b.origin;
+    g.leaf_size = b.leaf_size;
+    g.levels = b.levels;
+    g.clamp_c = b.clamp_c;
+    g.band = b.band;
+    g.level_table = b.level_reports;
+    g.bricks = b.leaf_count;
+    g.edits_per_leaf_mean = b.edits_per_leaf_mean;
+    g.edits_per_leaf_max = b.edits_per_leaf_max;
+    g.edit_evaluations = b.edit_evaluations;
+    g.dependency_entries = b.dependency_entries;
+    g.pool_bytes = b.pool ? b.pool->bytes() : 0;
+    g.memory = b.memory;
+    g.device_ms = b.device_ms;
+    g.host_ms = b.host_ms;
+    if (b.end_launch <= last.size())
+        g.launches.assign(last.begin() + static_cast<std::ptrdiff_t>(b.first_launch),
+                          last.begin() + static_cast<std::ptrdiff_t>(b.end_launch));
+    return g;
+}
+
+std::string memory_text(const Memory& memory) {
+    std::string s;
+    for (const auto& [name, bytes] : memory) s += fmt::format("{}{} {}", s.empty() ? "" : ", ", name, bytes_text(bytes));
+    return s;
+}
+
+nlohmann::json to_json(const construct::LevelReport& l) {
+    return {{"level", l.level}, {"cell_size", l.cell_size}, {"bricks", l.bricks},
+            {"edit_entries", l.edit_entries}, {"max_edits", l.max_edits},
+            {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
+            {"cull_ms", l.cull_ms}};
+}
+
+nlohmann::json to_json(const GeometryFigures& g) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const auto& l : g.level_table) levels.push_back(to_json(l));
+    nlohmann::json launches = nlohmann::json::array();
+    for (const auto& l : g.launches) launches.push_back(measure::to_json(l));
+    return {{"name", g.name},
+            {"bricks", g.bricks},
+            {"levels", levels},
+            {"origin", {g.origin.x, g.origin.y, g.origin.z}},
+            {"leaf_size", g.leaf_size},
+            {"clamp_c", g.clamp_c},
+            {"band", g.band},
+            {"edits_per_leaf", {{"mean", g.edits_per_leaf_mean}, {"max", g.edits_per_leaf_max}}},
+            {"edit_evaluations", g.edit_evaluations},
+            {"dependency_entries", g.dependency_entries},
+            {"memory", g.memory},
+            {"device_ms", g.device_ms},
+            {"host_ms", g.host_ms},
+            {"launches", launches}};
+}
+
+std::string to_text(const GeometryFigures& g) {
+    std::string s = fmt::format("  geometry {}: {} leaf bricks of {} ({} levels), C = {:.4g}, band +-{:.4g}\n", g.name,
+                                g.bricks, g.leaf_size, g.levels, g.clamp_c, g.band);
+    s += "    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms\n";
+    for (const auto& l : g.level_table)
+        s += fmt::format("    {:>5}  {:<8.4g} {:>9}  {:>11.2f}  {:>4}  {:>8.3f}  {:>7.3f}  {:>9.3f}  {:>7.3f}\n", l.level,
+                         l.cell_size, l.bricks,
+                         l.bricks ? static_cast<double>(l.edit_entries) / static_cast<double>(l.bricks) : 0.0,
+                         l.max_edits, l.count_ms, l.scan_ms, l.subdivide_ms, l.cull_ms);
+    s += fmt::format("    edits per leaf: mean {:.2f}, max {}; edit evaluations {:.4g}\n", g.edits_per_leaf_mean,
+                     g.edits_per_leaf_max, static_cast<double>(g.edit_evaluations));
+    s += "    memory: " + memory_text(g.memory) + "\n";
+    return s;
+}
+
+}  // namespace
+
+std::string bytes_text(std::uint64_t b) {
+    if (b >= (1ull << 30)) return fmt::format("{:.2f} GiB", static_cast<double>(b) / (1ull << 30));
+    if (b >= (1ull << 20)) return fmt::format("{:.2f} MiB", static_cast<double>(b) / (1ull << 20));
+    if (b >= (1ull << 10)) return fmt::format("{:.1f} KiB", static_cast<double>(b) / (1ull << 10));
+    return fmt::format("{} B", b);
+}
+
+// ---- construction ----
+
+double ConstructionFigures::edits_per_leaf_mean() const {
+    return bricks ? static_cast<double>(leaf_edit_entries) / static_cast<double>(bricks) : 0.0;
+}
+
+ConstructionFigures construction_figures(const Run& run) {
+    static const measure::Capture no_capture;
+    const measure::Capture& last = run.captures.empty() ? no_capture : run.captures.back();
+    ConstructionFigures c;
+    for (const construct::GeometryBuild& b : run.bricks.builds) {
+        GeometryFigures g = geometry_figures(b, last);
+        c.bricks += g.bricks;
+        c.edit_evaluations += g.edit_evaluations;
+        c.pool_bytes += g.pool_bytes;
+        if (!g.level_table.empty() && g.bricks > 0) c.leaf_edit_entries += g.level_table.back().edit_entries;
+        c.edits_per_leaf_max = std::max(c.edits_per_leaf_max, g.edits_per_leaf_max);
+        c.levels = std::max(c.levels, g.levels);
+        c.host_ms += g.host_ms;
+        for (const auto& [k, v] : g.memory) c.memory[k] += v;
+        c.geometries.push_back(std::move(g));
+    }
+    return c;
+}
+
+// ---- build ----
+
+double BuildFigures::bricks_per_second() const {
+    return per_second(static_cast<double>(construction.bricks), total_ms.median);
+}
+
+double BuildFigures::edit_evaluations_per_second() const {
+    return per_second(static_cast<double>(construction.edit_evaluations), total_ms.median);
+}
+
+BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device) {
+    BuildFigures f;
+    f.construction = construction_figures(run);
+    f.stages = run.stages;
+    f.total_ms = run.total_ms;
+    f.captures = run.captures.size();
+    f.identical = run.identical;
+    f.kernels = measure::kernel_rows(run.captures, device);
+    f.digest = run.brick_digest;
+    f.list_digest = run.list_digest;
+    return f;
+}
+
+nlohmann::json to_json(const BuildFigures& f) {
+    const ConstructionFigures& c = f.construction;
+    nlohmann::json geometries = nlohmann::json::array();
+    for (const GeometryFigures& g : c.geometries) geometries.push_back(to_json(g));
+    return {{"bricks", c.bricks},
+            {"digest", f.digest},
+            {"list_digest", f.list_digest},
+            {"stages", measure::to_json(f.stages)},
+            {"device_ms", f.total_ms.median},
+            {"host_ms", c.host_ms},
+            {"total_ms", measure::to_json(f.total_ms)},
+            {"captures", {{"repeat", f.captures}, {"identical", f.identical}}},
+            {"kernels", measure::to_json(f.kernels)},
+            {"memory", c.memory},
+            {"edits_per_leaf", {{"mean", c.edits_per_leaf_mean()}, {"max", c.edits_per_leaf_max}}},
+            {"edit_evaluations", c.edit_evaluations},
+            {"bricks_per_second", f.bricks_per_second()},
+            {"edit_evaluations_per_second", f.edit_evaluations_per_second()},
+            {"geometries", geometries}};
+}
+
+std::string to_text(const BuildFigures& f, bool kernel_table) {
+    std::string s;
+    for (const GeometryFigures& g : f.construction.geometries) s += to_text(g);
+    std::string stages;
+    for (const auto& st : f.stages)
+        stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", to_string(st.stage), st.ms.median);
+    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms\n", f.captures > 1 ? ", medians" : "", stages,
+                     f.total_ms.median);
+    if (f.captures > 1) {
+        s += fmt::format("  total over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n", f.captures,
+                         f.total_ms.median, f.total_ms.min, f.total_ms.max, 100.0 * f.total_ms.cv);
+        s += measure::stage_table_text(f.stages, f.identical);
+    }
+    if (kernel_table) s += measure::kernel_table_text(f.kernels);
+    s += fmt::format("  digest {} (edit lists {})\n", f.digest, f.list_digest);
+    return s;
+}
+
+// ---- render ----
+
+Memory RenderFigures::memory() const {
+    Memory m = bvh.memory;
+    for (const auto& [k, v] : construction.memory) m[k] += v;
+    if (combined_pool_bytes) m["combined pool"] = *combined_pool_bytes;
+    return m;
+}
+
+double RenderFigures::rays_per_second() const {
+    return per_second(static_cast<double>(width) * height, trace_ms.median);
+}
+
+RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::DeviceInfo& device) {
+    const render::SceneBricks& bricks = run.bricks;
+    RenderFigures f;
+    f.construction = construction_figures(run);
+    f.bvh = {bricks.bvh.node_count, bricks.bvh.tlas_node_count, bricks.bvh.instance_objects.size(),
+             bricks.bvh.device_ms, bricks.bvh.memory};
+    if (bricks.combined_pool) f.combined_pool_bytes = bricks.combined_pool->bytes();
+    f.voxel_world = bricks.voxel_world;
+    f.stages = run.stages;
+    f.build_ms = run.build_ms;
+    f.bvh_ms = run.bvh_ms;
+    f.trace_ms = run.trace_ms;
+    f.warmup = spec.warmup;
+    f.captures = run.captures.size();
+    f.identical = run.identical;
+    f.kernels = measure::kernel_rows(run.captures, device);
+    f.width = spec.trace.width;
+    f.height = spec.trace.height;
+    f.group_x = spec.trace.group_x;
+    f.group_y = spec.trace.group_y;
+    f.shade = spec.trace.shade;
+    if (run.trace) f.work = render::work_counts(run.trace->buffer);
+    f.digest = run.trace_digest;
+    return f;
+}
+
+nlohmann::json to_json(const RenderFigures& f) {
+    return {{"trace_group", {f.group_x, f.group_y}},
+            {"stages", measure::to_json(f.stages)},
+            {"build_ms", measure::to_json(f.build_ms)},
+            {"bvh_ms", measure::to_json(f.bvh_ms)},
+            {"trace_ms", measure::to_json(f.trace_ms)},
+            {"captures", {{"warmup", f.warmup}, {"repeat", f.captures}, {"identical", f.identical}}},
+            {"bricks", f.construction.bricks},
+            {"bvh", {{"nodes", f.bvh.nodes}, {"tlas_nodes", f.bvh.tlas_nodes}, {"instances", f.bvh.instances},
+                     {"device_ms", f.bvh.device_ms}}},
+            {"memory", f.memory()},
+            {"rays_per_second", f.rays_per_second()},
+            {"work_per_pixel", {{"node_visits", f.work.node_visits}, {"brick_steps", f.work.brick_steps}}},
+            {"digest", f.digest},
+            {"voxel_world", f.voxel_world},
+            {"kernels", measure::to_json(f.kernels)}};
+}
+
+std::string to_text(const RenderFigures& f, bool kernel_table) {
+    const std::string shade =
+        f.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(f.stages, measure::Stage::shade)) : "";
+    std::string s = fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
+                                "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
+                                f.build_ms.median, f.construction.bricks, f.bvh_ms.median, f.bvh.nodes,
+                                f.trace_ms.median, f.rays_per_second(), f.work.node_visits, f.work.brick_steps, shade);
+    if (f.captures > 1) s += measure::stage_table_text(f.stages, f.identical);
+    if (kernel_table) s += measure::kernel_table_text(f.kernels);
+    return s;
+}
+
+}  // namespace sdfbrick::pipeline
