@@ -335,7 +335,8 @@ TEST(Sweep, RefusedValueNamesItsKey) {
     const auto rows = sweep::run_points(s, points, devices, nullptr, cache, nullptr);
     ASSERT_EQ(rows.size(), 2u);
     EXPECT_EQ(rows[0].status, "error") << to_json(rows[0]).dump();
-    EXPECT_EQ(rows[0].error.rfind("\"trace_groups\": group_x x group_y = 4096 x 4096", 0), 0u) << rows[0].error;
+    const std::string error = rows[0].error.value_or("");
+    EXPECT_EQ(error.rfind("\"trace_groups\": group_x x group_y = 4096 x 4096", 0), 0u) << error;
     EXPECT_EQ(rows[1].status, "ok") << to_json(rows[1]).dump();
 }
 
