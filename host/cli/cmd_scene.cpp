@@ -80,6 +80,7 @@ void add_scene_commands(CLI::App& app, const GlobalOptions&) {
                          "reference (no culling: slow for large scenes, seconds to minutes)");
     cmd_info->add_option("--branching", info->branching, "branching factor per axis for --bricks")
         ->check(CLI::IsMember({2, 4}));
+    add_setting_flags(cmd_info, {{"leaf_size", "--bricks"}, {"branching", "--branching"}});
     cmd_info->callback([info] { run_info(*info); });
 
     auto gen = std::make_shared<GenerateOptions>();

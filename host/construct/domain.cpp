@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "core/errors.h"
 
 namespace sdfbrick::construct {
@@ -58,9 +60,9 @@ Domain make_domain(const Aabb& bounds, double leaf_size, int branching) {
         if (!std::isfinite(bounds.lo[a]) || !std::isfinite(bounds.hi[a]))
             throw InputError("make_domain: the bounds are not finite");
     if (!(leaf_size > 0.0) || !std::isfinite(leaf_size))
-        throw InputError("make_domain: leaf size must be > 0, got " + std::to_string(leaf_size));
+        throw SettingError("leaf_size", fmt::format("leaf_size must be > 0, got {}", leaf_size));
     if (!valid_branching(branching))
-        throw InputError("make_domain: branching must be a power of two in 2..16, got " + std::to_string(branching));
+        throw SettingError("branching", "branching must be a power of two in 2..16, got " + std::to_string(branching));
     Domain d;
     d.leaf_size = leaf_size;
     d.branching = branching;
@@ -70,8 +72,9 @@ Domain make_domain(const Aabb& bounds, double leaf_size, int branching) {
     d.levels = 1;
     while (d.side() < reach) {
         if (d.cells_per_axis(d.levels) > (std::int64_t{1} << 30))
-            throw InputError("make_domain: more than 2^30 leaf cells per axis (leaf size " +
-                             std::to_string(leaf_size) + " too small for the bounds)");
+            throw SettingError("leaf_size", fmt::format("leaf_size {} is too small for the bounds: more than 2^30 "
+                                                        "leaf cells per axis",
+                                                        leaf_size));
         ++d.levels;
     }
     return d;

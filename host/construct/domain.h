@@ -31,8 +31,9 @@ struct Domain {
 };
 
 // origin = floor(bounds.lo / leaf) * leaf; levels = the smallest count >= 1 whose cube from that
-// origin reaches bounds.hi on every axis. Throws InputError on empty or non-finite bounds, leaf_size
-// <= 0, a branching that is not a power of two in 2..16, or a leaf lattice beyond 2^30 cells per axis.
+// origin reaches bounds.hi on every axis. Throws InputError on empty or non-finite bounds, and
+// SettingError for leaf_size <= 0, a branching that is not a power of two in 2..16, or a leaf lattice
+// beyond 2^30 cells per axis (setting leaf_size).
 Domain make_domain(const Aabb& bounds, double leaf_size, int branching);
 
 // The local coordinate (each component in [0, B)) of the child with Morton index i inside its parent.

@@ -255,6 +255,8 @@ TEST(Cli, RefusedSettingNamesItsFlag) {
         {"sweep --scenes " + spheres + " --shard 4/4", "sdfbrick: --shard: shard must be i/n with 0 <= i < n (e.g. 0/4), got \"4/4\"\n"},
         {"tune " + spheres + " --brick-size 0.5 --kernels evaluate --strategy genetic",
          "sdfbrick: --strategy: strategy must be auto, full, random or anneal, got \"genetic\"\n"},
+        {"scene info " + spheres + " --bricks 1e-12", "sdfbrick: --bricks: leaf_size 1e-12 is too small for the bounds"},
+        {"build " + spheres + " --brick-size 1e-12", "sdfbrick: --brick-size: leaf_size 1e-12 is too small for the bounds"},
     };
     for (const auto& [args, expect] : cases) {
         const CliRun r = sdfbrick(args, env);
