@@ -19,6 +19,7 @@
 #include "cl/launch.h"
 #include "cl/program.h"
 #include "core/files.h"
+#include "measure/scheduler.h"
 
 namespace sdfbrick::measure {
 
@@ -43,7 +44,9 @@ std::string now_iso() {
 }
 
 double device_ms(ocl::Device& device, cl_kernel kernel, const char* name, std::size_t global) {
-    const double ms = ocl::event_times(ocl::enqueue(device, kernel, name, global), name).start_to_end_ms;
+    Scheduler scheduler(device);
+    scheduler.launch(Stage::peaks, -1, kernel, global);
+    const double ms = scheduler.resolve().front().device_ms;
     if (!(ms > 0.0)) {
         throw std::runtime_error(fmt::format("kernel {} on {} took {} ms of device time by its profiling events: "
                                              "no peak can be derived from that",

@@ -24,12 +24,13 @@ enum class Stage {
     shade,         // shading and its secondary rays
     reference,     // the device reference tracer (analytic edits)
     eval,          // field evaluation at points
+    peaks,         // the bandwidth and FMA kernels of devices --peaks
 };
 
 inline constexpr std::array kAllStages = {Stage::edit_bounds, Stage::dependencies, Stage::count, Stage::scan,
                                           Stage::subdivide,   Stage::cull,         Stage::evaluate, Stage::aabb,
                                           Stage::bvh,         Stage::tlas,         Stage::trace, Stage::shade,
-                                          Stage::reference,   Stage::eval};
+                                          Stage::reference,   Stage::eval,         Stage::peaks};
 // The stages of construction, in the order a build runs them.
 inline constexpr std::array kConstructionStages = {Stage::edit_bounds, Stage::dependencies, Stage::count,
                                                    Stage::scan,        Stage::subdivide,    Stage::cull,
@@ -51,6 +52,7 @@ constexpr std::string_view to_string(Stage s) {
         case Stage::shade: return "shade";
         case Stage::reference: return "reference";
         case Stage::eval: return "eval";
+        case Stage::peaks: return "peaks";
     }
     return "?";
 }
