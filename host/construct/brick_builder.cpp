@@ -202,7 +202,7 @@ private:
     std::uint64_t count_and_scan(int level);
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
-    void cull_lists(int level, std::uint64_t children, float cell);
+    void cull_lists(int level, std::uint64_t children);
     cl_uint level_log2b(int level) const { return level == 0 ? 0u : plan_.log2b; }
     float cell(int level) const { return static_cast<float>(plan_.domain.cell_size(level)); }
     std::size_t chunk_bytes() const { return static_cast<std::size_t>(s_.chunk) * sizeof(SdfEdit); }
@@ -220,7 +220,7 @@ private:
     std::optional<EditDependencies> deps_;
     ocl::Buffer<cl_uint> empty_uints_{d_, 0};
     SdfBrick pseudo_{};  // level -1: one parent whose single child (branching 1) is the root
-    std::unique_ptr<ocl::Buffer<SdfBrick>> parents_, bricks_;
+    std::unique_ptr<ocl::Buffer<SdfBrick>> parents_;  // the current level's parents, then its bricks
     std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
@@ -256,30 +256,30 @@ std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
 }
 
 void BrickBuilder::Job::subdivide(int level, std::uint64_t children) {
-    bricks_ = std::make_unique<ocl::Buffer<SdfBrick>>(
+    auto bricks = std::make_unique<ocl::Buffer<SdfBrick>>(
         allocate<SdfBrick>(d_, children, fmt::format("level {} ({} bricks)", level, children)));
-    brick_bytes_ += bricks_->bytes();
+    brick_bytes_ += bricks->bytes();
     if (children > 0) {
         const cl_uint lb = level_log2b(level);
         ocl::set_args(b_.programs_->subdivide_k.get(), *parents_, static_cast<cl_uint>(parent_count_), lb, offsets_,
-                      *bricks_);
+                      *bricks);
         const std::size_t global = round_up(parent_count_ << (3 * lb), kGroup1d);
         scheduler_.launch(measure::Stage::subdivide, level, b_.programs_->subdivide_k.get(), global, kGroup1d);
     }
     if (level > 0) level_bricks_.push_back(std::move(parents_));  // the parent level's masks are final now
-    parents_ = std::move(bricks_);
+    parents_ = std::move(bricks);
 }
 
 // Each child's edit list from its parent's; without culling every brick keeps the whole list.
 void BrickBuilder::Job::cull(int level, std::uint64_t children) {
     if (s_.cull && children > 0) {
-        cull_lists(level, children, cell(level));
+        cull_lists(level, children);
         return;
     }
     list_entries_.push_back(children * edits_host_.size());
 }
 
-void BrickBuilder::Job::cull_lists(int level, std::uint64_t children, float cell) {
+void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     const auto& k = *b_.programs_;
     const ocl::Buffer<SdfBrick>& bricks = *parents_;  // this level's bricks (subdivide moved them there)
     const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
@@ -293,7 +293,7 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children, float cell
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
     if (total_words > 0) {
         ocl::set_args(k.mark_k.get(), edits_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
-                      origin_.y, origin_.z, cell, plan_.cull_radius(level, s_.layout().apron()), plan_.clamp_c,
+                      origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.clamp_c,
                       static_cast<float>(plan_.magnitude), words_, bits_);
         scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
     }
