@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "cl/device.h"
+#include "core/fault.h"
 #include "cl/handles.h"
 
 namespace sdfbrick::ocl {
@@ -38,14 +39,19 @@ public:
         // The limit is enforced here for every device: some drivers (NVIDIA's) accept larger buffers
         // where others refuse them, and a run must not depend on which device it met first.
         cl_int status = allocated > info.max_alloc_bytes ? CL_INVALID_BUFFER_SIZE : CL_SUCCESS;
+        std::string injected;
+        if (status == CL_SUCCESS && fault::should_fail(fault::Point::alloc, info.index)) {
+            status = CL_MEM_OBJECT_ALLOCATION_FAILURE;
+            injected = ", " + fault::describe(fault::Point::alloc, info.index);
+        }
         if (status == CL_SUCCESS) {
             memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));
         }
         if (status != CL_SUCCESS) {
             throw ClError(status, fmt::format("allocating a buffer of {} bytes ({} elements of {} bytes) on {} "
-                                              "(largest allocation {} bytes, global memory {} bytes)",
+                                              "(largest allocation {} bytes, global memory {} bytes{})",
                                               allocated, count, sizeof(T), info.name, info.max_alloc_bytes,
-                                              info.global_mem_bytes));
+                                              info.global_mem_bytes, injected));
         }
     }
 

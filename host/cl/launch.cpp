@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "core/fault.h"
+
 namespace sdfbrick::ocl {
 
 namespace {
@@ -62,6 +64,9 @@ Event enqueue(Device& device, cl_kernel kernel, std::string_view name, std::arra
     bool empty = false;
     for (cl_uint d = 0; d < dims; ++d) {
         empty = empty || global[d] == 0;
+    }
+    if (fault::should_fail(fault::Point::launch, device.info().index)) {
+        throw ClError(CL_OUT_OF_RESOURCES, doing(), fault::describe(fault::Point::launch, device.info().index));
     }
     if (empty) {
         status = clEnqueueMarkerWithWaitList(device.queue(), 0, nullptr, &event);

@@ -19,6 +19,7 @@
 
 #include "cl/device.h"
 #include "cl/kernel_source.h"
+#include "core/fault.h"
 #include "core/hash.h"
 
 namespace sdfbrick::ocl {
@@ -86,6 +87,9 @@ ProgramHandle compile_from_source(const Device& device, const std::string& sourc
     check(status, fmt::format("creating a program from the source of {} on {}", record.kernel_file,
                               record.device_name));
     const cl_device_id id = device.id();
+    if (fault::should_fail(fault::Point::build, device.info().index)) {
+        throw ClError(CL_BUILD_PROGRAM_FAILURE, building(record), fault::describe(fault::Point::build, device.info().index));
+    }
     status = clBuildProgram(program.get(), 1, &id, record.options.c_str(), nullptr, nullptr);
     record.log = map_log_locations(build_log(program.get(), id), source);
     if (status != CL_SUCCESS) {

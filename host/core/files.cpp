@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/fault.h"
 
 namespace sdfbrick {
 
@@ -25,6 +26,9 @@ void write_via_temp(const std::filesystem::path& path, const std::function<void(
     std::filesystem::path tmp = path;
     tmp.replace_filename(fmt::format(".{}.tmp-{}{}", path.stem().string(), ::getpid(), path.extension().string()));
     try {
+        if (fault::should_fail(fault::Point::write)) {
+            throw InputError(path.string() + ": cannot write: " + fault::describe(fault::Point::write, std::nullopt));
+        }
         write(tmp);
         std::error_code ec;
         std::filesystem::rename(tmp, path, ec);
