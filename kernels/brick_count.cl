@@ -1,14 +1,22 @@
 /* brick_count.cl: stage "count". One work-group per parent brick, one work-item per candidate child
- * (local size B^3). Each child's centre is tested against the band-limited field of the parent's edit
- * list: kept iff |F_C(centre)| <= threshold (half the child's diagonal plus a rounding margin). The
- * parent's edits are staged through __local memory in chunks of chunk_size. Writes the parent's child
- * mask (bit = Morton index) and its child count. */
+ * (local size B^3). Each child's centre is tested against the parent's edit list, folded with its
+ * running value saturated to [-saturation, saturation]:
+ *   - saturation == C (the threshold is below C): the band-limited field itself; kept iff
+ *     |F_C(centre)| <= threshold (half the child's diagonal plus a rounding margin);
+ *   - saturation > C (a coarse level, whose threshold reaches C and where |F_C| <= C says nothing):
+ *     the wider fold W, with excess bounding |F_C - clamp(W, -C, C)| over the child (see
+ *     sdf_saturation_excess); kept iff |W(centre)| <= threshold + excess, or excess >= reject_slack
+ *     (= C - the leaf threshold: then W cannot prove that no leaf below passes).
+ * Either way every ancestor of a leaf that passes its test passes its own (docs/construction.md).
+ * The parent's edits are staged through __local memory in chunks of chunk_size. Writes the parent's
+ * child mask (bit = Morton index) and its child count. */
 #include "sdf_build.h"
 
 __kernel void brick_count(__global const SdfEdit* edits, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
-                          float threshold, float clamp_c,
+                          float threshold, float clamp_c, float saturation, float reject_slack,
+                          float magnitude,
                           __global uint* child_counts,
                           __local SdfPrepared* chunk, uint chunk_size, __local uint* kept) {
     const uint parent = get_group_id(0);
@@ -17,20 +25,26 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const uint* ed
     const uint b_axis = 1u << log2b;
     const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)b_axis + sdf_morton_child(lid, log2b);
     const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
-    float field = clamp_c;
-    /* |F_C| <= C always: where the threshold is at least C every child is kept, evaluated or not. */
-    const uint edit_count = threshold < clamp_c ? b.edit_count : 0u;
-    for (uint base = 0; base < edit_count; base += chunk_size) {
-        const uint n = min(chunk_size, edit_count - base);
+    const int wide = saturation > clamp_c;
+    float field = saturation, excess = 0.0f;
+    for (uint base = 0; base < b.edit_count; base += chunk_size) {
+        const uint n = min(chunk_size, b.edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
             const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
-            field = sdf_fold(&e, field, p, clamp_c);
+            if (wide) {
+                const float v = sdf_prepared_value(&e, p);
+                excess += sdf_saturation_excess(&e, v, clamp_c, saturation, threshold, magnitude);
+                field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
+            } else {
+                field = sdf_fold(&e, field, p, clamp_c);
+            }
         }
     }
-    kept[lid] = fabs(field) <= threshold ? 1u : 0u;
+    kept[lid] = (wide ? fabs(field) <= threshold + excess || excess >= reject_slack : fabs(field) <= threshold) ? 1u
+                                                                                                                : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
         uint mask[2] = {0u, 0u}, count = 0;

@@ -22,6 +22,26 @@ inline float sdf_fold(const SdfPrepared* e, float field, float3 p, float clamp_c
     return fmin(fmax(f, -clamp_c), clamp_c);
 }
 
+/* How far the fold saturated at [-S, S] (S > C) may sit from F_C, for smooth edit e whose value at
+ * the centre of a cell is v, over points within radius of that centre: k/4 when e's smooth zone can
+ * meet the saturation level +-C there (an add or subtract blends with F = C where |v - C| < k, an
+ * intersect with F = -C where |v + C| < k), plus a rounding allowance for the chain of combines;
+ * 0 for a hard edit (min, max and clamp are exact in float, so they add no difference).
+ * docs/construction.md ("Sparse coarse levels") gives the argument. */
+inline float sdf_saturation_excess(const SdfPrepared* e, float v, float clamp_c, float saturation, float radius,
+                                   float magnitude) {
+    if (!(e->blend > 0.0f)) return 0.0f;
+    /* The rounding of v, as in sdf_edit_reaches: relative to the coordinates and the edit's size. */
+    const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
+                        fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
+                            e->inv_scale;
+    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+    const uint op = (e->kind >> 8) & 0xffu;
+    const float level = op == SDF_OP_INTERSECT ? -clamp_c : clamp_c;
+    const float rounding = (saturation + e->blend) * 9.5367431640625e-07f; /* 2^-20 */
+    return (fabs(v - level) < e->blend + radius + margin ? 0.25f * e->blend : 0.0f) + rounding;
+}
+
 /* Centre of cell coord (in cells of size cell) of a lattice whose origin is origin. */
 inline float3 sdf_cell_centre(float3 origin, float cell, int3 coord) {
     return origin + (convert_float3(coord) + 0.5f) * cell;

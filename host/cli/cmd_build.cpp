@@ -25,6 +25,7 @@ struct BuildOptions {
     BuildFlags flags;
     MeasureFlags measure;
     std::optional<std::string> json;
+    bool reference_levels = false;
 };
 
 // One device's part of the build report.
@@ -107,6 +108,7 @@ DeviceBuildReport build_on(ocl::Device& device, const Scene& scene, const BuildO
     const pipeline::Run run =
         runner.run(scene, {pipeline::Work::construct, d.settings, {}, o.measure.warmups(), o.measure.repeat, true});
     d.figures = pipeline::build_figures(run, device.info());
+    if (o.reference_levels) pipeline::add_reference_levels(d.figures.construction, scene, d.settings);
     return d;
 }
 
@@ -150,6 +152,8 @@ void add_build_command(CLI::App& app, const GlobalOptions& global) {
     o->flags.add_to(cmd);
     o->measure.add_to(cmd, "build");
     cmd->add_option("--json", o->json, "write a JSON report here");
+    cmd->add_flag("--reference-levels", o->reference_levels,
+                  "also count each level's surface cells with the double-precision host reference (slow)");
     cmd->callback([o, &global] { run_build(*o, global); });
 }
 

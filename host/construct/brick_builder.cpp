@@ -94,6 +94,12 @@ float float_up(double x) {
     return static_cast<double>(f) >= x ? f : std::nextafter(f, INFINITY);
 }
 
+// Rounds a double down to the float at or below it.
+float float_down(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) <= x ? f : std::nextafter(f, -INFINITY);
+}
+
 }  // namespace
 
 // The thresholds, saturation and margins of one geometry's build (docs/construction.md).
@@ -112,6 +118,20 @@ struct BuildPlan {
     // The cull test's radius at `level`: a child's cell plus the apron samples around it.
     float cull_radius(int level, int apron) const {
         return float_up(std::sqrt(3.0) * (0.5 * domain.cell_size(level) + (apron - 0.5) * voxel) * (1.0 + 1e-6));
+    }
+    // The saturation the count test of `level` folds with: C where its threshold is below C, else
+    // C + threshold (the wide fold of a coarse level; docs/construction.md, "Sparse coarse levels").
+    // Past the leaves (the evaluation) it is C. Never increases with the level.
+    float saturation(int level) const {
+        if (level >= domain.levels) return clamp_c;
+        const float t = threshold(level);
+        return t < clamp_c ? clamp_c : float_up(double(clamp_c) + double(t));
+    }
+    // A coarse cell whose bound on |F_C - clamp(W)| reaches this cannot be rejected: C minus the
+    // leaf threshold, rounded down with a margin for the kernel's float sums.
+    float reject_slack() const {
+        const double slack = (double(clamp_c) - double(threshold(domain.levels - 1))) * (1.0 - 1.0 / 1024.0);
+        return std::max(0.0f, float_down(slack));
     }
 };
 
@@ -235,7 +255,8 @@ std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(d_, parent_count_, "the child counts");
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(d_, parent_count_, "the child offsets");
     ocl::set_args(b_.programs_->count_k.get(), edits_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
-                  cell(level), plan_.threshold(level), plan_.clamp_c, counts_, ocl::LocalMemory{chunk_bytes()},
+                  cell(level), plan_.threshold(level), plan_.clamp_c, plan_.saturation(level), plan_.reject_slack(),
+                  static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{chunk_bytes()},
                   static_cast<cl_uint>(s_.chunk), ocl::LocalMemory{group * sizeof(cl_uint)});
     scheduler_.launch(measure::Stage::count, level, b_.programs_->count_k.get(), parent_count_ << (3 * lb), group);
     const std::uint64_t children =
@@ -293,7 +314,7 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
     if (total_words > 0) {
         ocl::set_args(k.mark_k.get(), edits_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
-                      origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.clamp_c,
+                      origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.saturation(level + 1),
                       static_cast<float>(plan_.magnitude), words_, bits_);
         scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
     }

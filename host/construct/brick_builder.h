@@ -53,6 +53,8 @@ struct LevelReport {
     std::uint64_t edit_entries = 0;  // sum of the bricks' list lengths
     std::uint32_t max_edits = 0;
     double count_ms = 0.0, scan_ms = 0.0, subdivide_ms = 0.0, cull_ms = 0.0;
+    // The host reference's surface cells of this level (reference/surface_cells.h), when asked for.
+    std::optional<std::uint64_t> reference_cells;
 };
 
 // One geometry's construction: the leaves and pool stay on the device.

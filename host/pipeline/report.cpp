@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "reference/surface_cells.h"
+
 namespace sdfbrick::pipeline {
 
 namespace {
@@ -40,11 +42,22 @@ std::string memory_text(const Memory& memory) {
     return s;
 }
 
+// Bricks kept per reference surface cell (1 when both are 0).
+double kept_per_reference(const construct::LevelReport& l) {
+    if (*l.reference_cells == 0) return l.bricks == 0 ? 1.0 : static_cast<double>(l.bricks);
+    return static_cast<double>(l.bricks) / static_cast<double>(*l.reference_cells);
+}
+
 nlohmann::json to_json(const construct::LevelReport& l) {
-    return {{"level", l.level}, {"cell_size", l.cell_size}, {"bricks", l.bricks},
-            {"edit_entries", l.edit_entries}, {"max_edits", l.max_edits},
-            {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
-            {"cull_ms", l.cull_ms}};
+    nlohmann::json j = {{"level", l.level}, {"cell_size", l.cell_size}, {"bricks", l.bricks},
+                        {"edit_entries", l.edit_entries}, {"max_edits", l.max_edits},
+                        {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
+                        {"cull_ms", l.cull_ms}};
+    if (l.reference_cells) {
+        j["reference_cells"] = *l.reference_cells;
+        j["kept_per_reference"] = kept_per_reference(l);
+    }
+    return j;
 }
 
 nlohmann::json to_json(const GeometryFigures& g) {
@@ -71,12 +84,16 @@ nlohmann::json to_json(const GeometryFigures& g) {
 std::string to_text(const GeometryFigures& g) {
     std::string s = fmt::format("  geometry {}: {} leaf bricks of {} ({} levels), C = {:.4g}, band +-{:.4g}\n", g.name,
                                 g.bricks, g.leaf_size, g.levels, g.clamp_c, g.band);
-    s += "    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms\n";
-    for (const auto& l : g.level_table)
-        s += fmt::format("    {:>5}  {:<8.4g} {:>9}  {:>11.2f}  {:>4}  {:>8.3f}  {:>7.3f}  {:>9.3f}  {:>7.3f}\n", l.level,
+    const bool reference = !g.level_table.empty() && g.level_table.front().reference_cells.has_value();
+    s += fmt::format("    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms{}\n",
+                     reference ? "  reference  kept/ref" : "");
+    for (const auto& l : g.level_table) {
+        s += fmt::format("    {:>5}  {:<8.4g} {:>9}  {:>11.2f}  {:>4}  {:>8.3f}  {:>7.3f}  {:>9.3f}  {:>7.3f}", l.level,
                          l.cell_size, l.bricks,
                          l.bricks ? static_cast<double>(l.edit_entries) / static_cast<double>(l.bricks) : 0.0,
                          l.max_edits, l.count_ms, l.scan_ms, l.subdivide_ms, l.cull_ms);
+        s += l.reference_cells ? fmt::format("  {:>9}  {:>8.3f}\n", *l.reference_cells, kept_per_reference(l)) : "\n";
+    }
     s += fmt::format("    edits per leaf: mean {:.2f}, max {}; edit evaluations {:.4g}\n", g.edits_per_leaf_mean,
                      g.edits_per_leaf_max, static_cast<double>(g.edit_evaluations));
     s += "    memory: " + memory_text(g.memory) + "\n";
@@ -138,6 +155,20 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device) {
     f.digest = run.brick_digest;
     f.list_digest = run.list_digest;
     return f;
+}
+
+void add_reference_levels(ConstructionFigures& c, const Scene& scene, const construct::BuildSettings& s) {
+    for (std::size_t i = 0; i < c.geometries.size() && i < scene.geometries.size(); ++i) {
+        GeometryFigures& figures = c.geometries[i];
+        const Geometry& g = scene.geometries[i];
+        const Aabb box = bounds(g);
+        if (box.empty() || figures.level_table.empty()) continue;
+        construct::Domain domain = construct::make_domain(box, s.leaf_size, s.branching);
+        domain.levels = figures.levels;
+        const std::vector<std::uint64_t> cells = reference::count_surface_cells(g, domain);
+        for (construct::LevelReport& l : figures.level_table)
+            l.reference_cells = static_cast<std::size_t>(l.level) < cells.size() ? cells[l.level] : 0;
+    }
 }
 
 nlohmann::json to_json(const BuildFigures& f) {

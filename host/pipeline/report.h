@@ -71,6 +71,9 @@ struct BuildFigures {
     double edit_evaluations_per_second() const;
 };
 BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device);
+// Fills every level's reference_cells with the host reference's surface cells of that level
+// (reference::count_surface_cells over the same domain). scene: the one that was built.
+void add_reference_levels(ConstructionFigures& c, const Scene& scene, const construct::BuildSettings& s);
 // {"bricks", "digest", "list_digest", "stages", "device_ms", "host_ms", "total_ms", "captures",
 //  "kernels", "memory", "edits_per_leaf", "edit_evaluations", "bricks_per_second",
 //  "edit_evaluations_per_second", "geometries"} (docs/measurement.md)

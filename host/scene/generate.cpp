@@ -12,7 +12,7 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 5> kNames = {"spheres", "drops", "cubes", "rain", "fractal"};
+constexpr std::array<std::string_view, 6> kNames = {"spheres", "drops", "cubes", "rain", "fractal", "board"};
 
 // Files keep 4 decimals: readable, and what is generated is exactly what is loaded back.
 double r4(double v) { return std::round(v * 1e4) / 1e4; }
@@ -172,6 +172,37 @@ Scene fractal(Rng& rng) {
     return finish("fractal", 0.0, g, orbit({0.0, 0.0, 0.0}, 10.0, 30.0, 25.0));
 }
 
+// Hard CSG with little volume: a flat 8.4 x 0.2 x 8.4 board with grooves cut along both axes and
+// across at random angles, and holes drilled through it. Its surface needs few bricks for a
+// domain of 8.4^3: a coarse level kept dense would cost the volume, not the surface.
+Scene board(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Box, {4.2, 0.1, 4.2, 0}, {0.0, 0.0, 0.0}));
+    for (int i = 0; i < 12; ++i) {  // straight grooves on the top face, 6 along x and 6 along z
+        const double at = -3.5 + 1.4 * (i % 6) + rng.uniform(-0.2, 0.2);
+        const double width = rng.uniform(0.03, 0.08), depth = rng.uniform(0.03, 0.08);
+        const bool along_x = i < 6;
+        Edit e = make_edit(Primitive::Box, {along_x ? 4.4 : width, depth, along_x ? width : 4.4, 0},
+                           {along_x ? 0.0 : at, 0.1, along_x ? at : 0.0});
+        e.op = Op::Subtract;
+        g.edits.push_back(e);
+    }
+    for (int i = 0; i < 4; ++i) {  // slanted grooves on the bottom face
+        Edit e = make_edit(Primitive::Box, {4.0, rng.uniform(0.03, 0.06), rng.uniform(0.02, 0.05), 0},
+                           {rng.uniform(-1.0, 1.0), -0.1, rng.uniform(-2.0, 2.0)});
+        e.transform.rotation = unit(glm::angleAxis(rng.uniform(0.2, 1.3), glm::dvec3(0.0, 1.0, 0.0)));
+        e.op = Op::Subtract;
+        g.edits.push_back(e);
+    }
+    for (int i = 0; i < 8; ++i) {  // holes drilled through
+        Edit e = make_edit(Primitive::Cylinder, {0.3, rng.uniform(0.05, 0.2), 0, 0},
+                           {rng.uniform(-3.8, 3.8), 0.0, rng.uniform(-3.8, 3.8)});
+        e.op = Op::Subtract;
+        g.edits.push_back(e);
+    }
+    return finish("board", 0.0, g, orbit({0.0, 0.0, 0.0}, 11.0, 30.0, 35.0));
+}
+
 }  // namespace
 
 std::span<const std::string_view> generated_scene_names() { return kNames; }
@@ -184,7 +215,8 @@ Scene generate_scene(std::string_view name, std::uint64_t seed) {
     if (name == "cubes") return cubes(rng);
     if (name == "rain") return rain(rng);
     if (name == "fractal") return fractal(rng);
-    throw InputError(fmt::format("unknown scene \"{}\" (known: spheres, drops, cubes, rain, fractal)", name));
+    if (name == "board") return board(rng);
+    throw InputError(fmt::format("unknown scene \"{}\" (known: spheres, drops, cubes, rain, fractal, board)", name));
 }
 
 }  // namespace sdfbrick

@@ -215,6 +215,35 @@ TEST(ConstructBuild, ChunkAndGroupSizesDoNotChangeTheOutput) {
     }
 }
 
+// Construction follows the surface at every level: each level keeps at most 4x the reference's
+// surface cells of that level (a level kept dense would keep its whole volume), including the coarse
+// levels whose threshold reaches C, on hard CSG with little volume and on chains of smooth blends.
+void check_levels_follow_surface(const Geometry& g, const BuildSettings& s) {
+    const GeometryBuild b = builder().build(g, s, test::recorder());
+    construct::Domain domain = construct::make_domain(bounds(g), s.leaf_size, s.branching);
+    const std::vector<std::uint64_t> reference = reference::count_surface_cells(g, domain);
+    ASSERT_EQ(b.level_reports.size(), reference.size());
+    bool coarse_tested = false;
+    for (std::size_t l = 0; l < reference.size(); ++l) {
+        const std::uint64_t kept = b.level_reports[l].bricks;
+        EXPECT_LE(kept, 4 * reference[l] + 1) << g.name << " level " << l << ": " << kept << " kept, reference "
+                                              << reference[l];
+        EXPECT_GE(kept, reference[l] - reference[l] / 50) << g.name << " level " << l;
+        coarse_tested = coarse_tested || domain.half_diagonal(static_cast<int>(l)) > b.clamp_c;
+    }
+    EXPECT_TRUE(coarse_tested) << g.name << ": no level's threshold reaches C, the coarse test is not exercised";
+}
+
+TEST(ConstructBuild, EveryLevelFollowsTheSurfaceHardCsg) {
+    check_levels_follow_surface(shipped_geometry("board"), settings(0.125));
+    check_levels_follow_surface(shipped_geometry("cubes"), settings(0.25));
+}
+
+TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
+    check_levels_follow_surface(mixed_geometry(), settings(0.0625));
+    check_levels_follow_surface(drops_subset(48), settings(0.125));
+}
+
 TEST(ConstructBuild, LevelsAndWorkAreReported) {
     measure::Scheduler scheduler(test::device());
     const GeometryBuild b = builder().build(drops_subset(64), settings(0.125), scheduler);
