@@ -5,7 +5,9 @@
  * as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), PER_ITEM (ceil(S^3 / local size)), FORMAT.
  * Sample (i, j, k) of the brick at coord lies at origin + ((coord * (S - 2 APRON) + (i, j, k) - APRON)
- * + 0.5) * voxel: voxel centres, APRON of them outside the brick on every side. */
+ * + 0.5) * voxel: voxel centres, APRON of them outside the brick on every side. voxel, band and the
+ * quantisation scale are the finest level's; a brick of a coarser level (adaptive builds) scales them
+ * by its power of two, exactly, and folds with its level's saturation level_clamp[level]. */
 #include "sdf_build.h"
 
 #define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
@@ -15,12 +17,16 @@
 
 __kernel void brick_evaluate(__global const SdfEdit* edits, __global const uint* edit_indices,
                              __global const SdfBrick* bricks,
-                             float origin_x, float origin_y, float origin_z, float voxel,
-                             float clamp_c, float band, float quant_scale,
+                             float origin_x, float origin_y, float origin_z, float finest_voxel,
+                             __global const float* level_clamp, float finest_band, float finest_quant_scale,
+                             uint finest, uint log2b,
                              __global sample_t* pool, __local SdfPrepared* chunk, uint chunk_size) {
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
+    const int shift = (int)((finest - b.level) * log2b);
+    const float voxel = ldexp(finest_voxel, shift), band = ldexp(finest_band, shift);
+    const float quant_scale = ldexp(finest_quant_scale, -shift), clamp_c = level_clamp[b.level];
     const float3 origin = (float3)(origin_x, origin_y, origin_z);
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
     float3 p[PER_ITEM];

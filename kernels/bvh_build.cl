@@ -33,20 +33,26 @@ inline ulong bvh_spread21(uint v) {
 #define BVH_FLAG_UNSORTED 1u
 #define BVH_FLAG_TOO_LARGE 2u
 
-inline ulong bvh_brick_key(__global const SdfBrick* b) {
-    return bvh_spread21((uint)b->coord[0]) | (bvh_spread21((uint)b->coord[1]) << 1) |
-           (bvh_spread21((uint)b->coord[2]) << 2);
+/* A leaf of a coarser level than the finest (adaptive builds) is keyed by its low corner on the
+ * finest lattice: coordinate << ((finest - level) * log2b). */
+inline ulong bvh_brick_key(__global const SdfBrick* b, uint finest, uint log2b) {
+    const uint shift = (finest - b->level) * log2b;
+    return bvh_spread21((uint)b->coord[0] << shift) | (bvh_spread21((uint)b->coord[1] << shift) << 1) |
+           (bvh_spread21((uint)b->coord[2] << shift) << 2);
 }
 
 /* flags: BVH_FLAG_UNSORTED when a key is not above the previous one, BVH_FLAG_TOO_LARGE when a
  * coordinate needs more than 21 bits (atomic_or sets flags: the result does not depend on order). */
-__kernel void bvh_morton_bricks(__global const SdfBrick* bricks, uint n, __global ulong* keys, __global uint* flags) {
+__kernel void bvh_morton_bricks(__global const SdfBrick* bricks, uint n, uint finest, uint log2b, __global ulong* keys,
+                                __global uint* flags) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const ulong key = bvh_brick_key(bricks + i);
+    const ulong key = bvh_brick_key(bricks + i, finest, log2b);
     keys[i] = key;
-    if ((uint)(bricks[i].coord[0] | bricks[i].coord[1] | bricks[i].coord[2]) >= (1u << 21)) atomic_or(flags, BVH_FLAG_TOO_LARGE);
-    if (i > 0 && bvh_brick_key(bricks + i - 1) >= key) atomic_or(flags, BVH_FLAG_UNSORTED);
+    const uint shift = (finest - bricks[i].level) * log2b;
+    if ((uint)(bricks[i].coord[0] | bricks[i].coord[1] | bricks[i].coord[2]) >= (1u << (21u - shift)))
+        atomic_or(flags, BVH_FLAG_TOO_LARGE);
+    if (i > 0 && bvh_brick_key(bricks + i - 1, finest, log2b) >= key) atomic_or(flags, BVH_FLAG_UNSORTED);
 }
 
 /* Length of the common prefix of keys i and j; -1 when j is outside [0, n). */

@@ -257,6 +257,7 @@ typedef struct TraceScene {
     __global const SdfBrickGeometry* geometries;
     __global const SdfBvhNode* nodes;
     __global const sample_t* pool;
+    __global const uint* shifts; /* per brick: its voxel is the geometry's finest voxel * 2^shift */
 } TraceScene;
 
 typedef struct TraceHit {
@@ -264,6 +265,7 @@ typedef struct TraceHit {
     uint brick;      /* global brick index */
     uint instance;
     float3 lo;       /* the brick's minimum corner (geometry frame) */
+    float inv_voxel; /* 1 / the brick's voxel */
     float3 o, d;     /* the ray in that instance's geometry frame */
     uint visits;     /* BVH nodes visited (both levels) */
     uint steps;      /* in-brick steps or cells */
@@ -349,13 +351,15 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
             const float limit = fmin(ch.x[w], tr_bound(hit, t_max));
             if (ch.n[w] > limit) continue;
             const uint b = g.brick_offset + (uint)(~ch.c[w]);
-            const float t = tr_brick(sc->pool + (size_t)b * S3, ch.lo[w], o, d, ch.n[w], limit, g.inv_voxel,
+            const float inv_voxel = ldexp(g.inv_voxel, -(int)sc->shifts[b]);
+            const float t = tr_brick(sc->pool + (size_t)b * S3, ch.lo[w], o, d, ch.n[w], limit, inv_voxel,
                                      len_scale, voxel_to_stored, &hit->steps);
             if (t >= 0.0f && (hit->t < 0.0f || t < hit->t)) {
                 hit->t = t;
                 hit->brick = b;
                 hit->instance = instance;
                 hit->lo = ch.lo[w];
+                hit->inv_voxel = inv_voxel;
                 hit->o = o;
                 hit->d = d;
                 if (any_hit) return;
@@ -374,6 +378,7 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
     hit.visits = 0u;
     hit.steps = 0u;
     hit.lo = hit.o = hit.d = (float3)(0.0f);
+    hit.inv_voxel = 0.0f;
     const float3 inv_d = tr_inverse(d);
     uint stack[BVH_STACK];
     float stack_t[BVH_STACK];
@@ -408,8 +413,7 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
  * entered a brick deep inside the solid, where every sample is -band). */
 inline float3 tr_normal(const TraceScene* sc, const TraceHit* hit, float3 d) {
     const SdfInstance in = sc->instances[hit->instance];
-    const SdfBrickGeometry g = sc->geometries[in.geometry];
-    const float3 s = (hit->o + hit->t * hit->d - hit->lo) * g.inv_voxel + (float)APRON - 0.5f;
+    const float3 s = (hit->o + hit->t * hit->d - hit->lo) * hit->inv_voxel + (float)APRON - 0.5f;
     const float3 n = tr_gradient(sc->pool + (size_t)hit->brick * S3, s);
     const float* m = in.world_to_geometry;
     /* world = M^T n */

@@ -36,7 +36,8 @@ inline void sh_frame(float3 n, float3* t1, float3* t2) {
 
 __kernel void shade(__global const SdfCamera* camera, __global const SdfBvhNode* tlas,
                     __global const SdfInstance* instances, __global const SdfBrickGeometry* geometries,
-                    __global const SdfBvhNode* nodes, __global const sample_t* pool, __global const SdfShading* shading,
+                    __global const SdfBvhNode* nodes, __global const sample_t* pool, __global const uint* shifts,
+                    __global const SdfShading* shading,
                     __global const float4* hits, __global float4* colour) {
     const uint x = get_global_id(0), y = get_global_id(1);
     const SdfCamera cam = *camera;
@@ -55,6 +56,7 @@ __kernel void shade(__global const SdfCamera* camera, __global const SdfBvhNode*
     sc.geometries = geometries;
     sc.nodes = nodes;
     sc.pool = pool;
+    sc.shifts = shifts;
     const SdfShading sh = *shading;
     const float3 n = h.xyz;
     const float3 l = (float3)(sh.light_dir[0], sh.light_dir[1], sh.light_dir[2]);

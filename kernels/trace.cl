@@ -7,7 +7,8 @@
 
 __kernel void trace_primary(__global const SdfCamera* camera, __global const SdfBvhNode* tlas,
                             __global const SdfInstance* instances, __global const SdfBrickGeometry* geometries,
-                            __global const SdfBvhNode* nodes, __global const sample_t* pool, __global float4* out_hit,
+                            __global const SdfBvhNode* nodes, __global const sample_t* pool,
+                            __global const uint* shifts, __global float4* out_hit,
                             __global uint2* out_aux) {
     const uint x = get_global_id(0), y = get_global_id(1);
     const SdfCamera cam = *camera;
@@ -18,6 +19,7 @@ __kernel void trace_primary(__global const SdfCamera* camera, __global const Sdf
     sc.geometries = geometries;
     sc.nodes = nodes;
     sc.pool = pool;
+    sc.shifts = shifts;
     const float3 d = sdf_camera_dir(&cam, x, y);
     const TraceHit hit = tr_trace(&sc, sdf_camera_eye(&cam), d, 0.0f, INFINITY, 0);
     const size_t i = (size_t)y * cam.width + x;

@@ -185,7 +185,8 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
         const std::size_t n = b.leaf_count;
         out.roots.push_back(n == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(offset));
         if (n == 0) continue;
-        ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), keys, flags);
+        ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), static_cast<cl_uint>(b.levels - 1),
+                      static_cast<cl_uint>(b.branching == 4 ? 2 : 1), keys, flags);
         scheduler.launch(measure::Stage::bvh, -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
         build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
         offset += nodes_for(n);

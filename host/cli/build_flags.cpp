@@ -1,5 +1,7 @@
 #include "cli/build_flags.h"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "cli/commands.h"
@@ -9,7 +11,16 @@ namespace sdfbrick::cli {
 
 void BuildFlags::add_to(CLI::App* cmd) {
     construct::BuildSettings& s = settings;
-    cmd->add_option("--brick-size", s.leaf_size, "side of a leaf brick (geometry units)")->capture_default_str();
+    brick_size_ = cmd->add_option("--brick-size,--min-brick-size", s.leaf_size,
+                                  "side of a leaf brick (geometry units); with --tolerance the finest brick")
+                      ->capture_default_str();
+    tolerance_ = cmd->add_option("--tolerance", s.tolerance,
+                                      "adaptive leaves: a brick is a leaf at the coarsest level whose samples "
+                                      "reproduce the field within this distance (geometry units; default: uniform)");
+    cmd->add_option("--tolerance-voxels", tolerance_voxels, "--tolerance in voxels of the finest brick")
+        ->excludes(tolerance_);
+    cmd->add_option("--max-brick-size", s.max_leaf_size,
+                    "adaptive: the largest leaf brick (default: a quarter of the geometry's extent)");
     cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
     cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();
     cmd->add_option("--samples", s.samples, "samples per brick axis: 8 (one-voxel apron) or 10 (two-voxel apron)")->capture_default_str();
@@ -20,7 +31,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
     group_ = cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation (default: tuned for the device, else 128)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
-    add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
+    add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"tolerance", "--tolerance"},
+                            {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
                             {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"}});
 }
@@ -31,6 +43,16 @@ construct::BuildSettings BuildFlags::resolve() const {
     if (!f) throw InputError(fmt::format("--format must be int8, int16 or float, got \"{}\"", format));
     s.format = *f;
     s.cull = !no_cull;
+    if (tolerance_ != nullptr && tolerance_->count() > 0 && !(s.tolerance > 0.0))
+        throw SettingError("tolerance", fmt::format("tolerance must be a positive number, got {}", s.tolerance));
+    if (tolerance_voxels) {
+        if (!(*tolerance_voxels > 0.0) || !std::isfinite(*tolerance_voxels))
+            throw SettingError("tolerance", fmt::format("--tolerance-voxels must be a positive number, got {}",
+                                                        *tolerance_voxels));
+        s.tolerance = *tolerance_voxels * s.voxel();
+    }
+    const bool size_given = brick_size_ != nullptr && brick_size_->count() > 0;
+    if (s.adaptive() && !size_given) s.leaf_size = construct::auto_leaf_size(s.tolerance, s.layout());
     return s;
 }
 
@@ -50,7 +72,8 @@ void MeasureFlags::add_to(CLI::App* cmd, const char* what) {
 nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
-            {"chunk", s.chunk}, {"group", s.eval_group}, {"cull", s.cull}, {"dependencies", s.dependencies}};
+            {"chunk", s.chunk}, {"group", s.eval_group}, {"cull", s.cull}, {"dependencies", s.dependencies},
+            {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 
 }  // namespace sdfbrick::cli

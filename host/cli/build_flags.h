@@ -17,16 +17,20 @@ struct BuildFlags {
     construct::BuildSettings settings;
     std::string format = "int8";
     bool no_cull = false;
+    std::optional<double> tolerance_voxels;
 
     // Adds --brick-size --levels --branching --samples --format --band --guard --chunk --group --no-cull
     // --dependencies to cmd.
     void add_to(CLI::App* cmd);
-    // The settings with --format and --no-cull applied; throws InputError for an unknown format.
+    // The settings with --format, --no-cull and the adaptive flags applied (--tolerance without
+    // --brick-size: the finest size from the tolerance); throws InputError for an unknown format.
     construct::BuildSettings resolve() const;
     // Which tuned parameters the command line set (add_to must have run).
     tune::Given given() const;
 
 private:
+    CLI::Option* brick_size_ = nullptr;
+    CLI::Option* tolerance_ = nullptr;
     CLI::Option* chunk_ = nullptr;
     CLI::Option* group_ = nullptr;
 };

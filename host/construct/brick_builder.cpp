@@ -36,24 +36,37 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (!(band_voxels > 0.0) || band_voxels > 64.0)
         throw SettingError("band_voxels", fmt::format("band_voxels must lie in (0, 64], got {}", band_voxels));
     if (!(guard >= 0.0) || guard > 64.0) throw SettingError("guard", fmt::format("guard must lie in [0, 64], got {}", guard));
+    if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
+        throw SettingError("tolerance", fmt::format("tolerance must be a positive number, got {}", tolerance));
+    if (!(max_leaf_size >= 0.0) || !std::isfinite(max_leaf_size))
+        throw SettingError("max_leaf_size", fmt::format("max_leaf_size must be a positive number, got {}", max_leaf_size));
     const std::uint64_t local = static_cast<std::uint64_t>(chunk) * sizeof(SdfEdit) + 64 * sizeof(cl_uint);
     if (local > device.local_mem_bytes)
         throw SettingError("chunk", fmt::format("chunk {} needs {} bytes of local memory; {} has {}", chunk, local,
                                                 device.name, device.local_mem_bytes));
 }
 
+double auto_leaf_size(double tolerance, const BrickLayout& layout) {
+    if (!(tolerance > 0.0) || !std::isfinite(tolerance))
+        throw SettingError("tolerance", fmt::format("tolerance must be a positive number, got {}", tolerance));
+    return std::exp2(std::floor(std::log2(2.0 * tolerance * layout.interior())));
+}
+
 struct BrickBuilder::Programs {
-    ocl::Program count, subdivide, cull, aabb;
-    ocl::Kernel count_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k;
+    ocl::Program count, subdivide, cull, aabb, order;
+    ocl::Kernel count_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
 
     explicit Programs(ocl::Device& d)
         : count(ocl::build_program(d, "brick_count.cl")), subdivide(ocl::build_program(d, "brick_subdivide.cl")),
           cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
+          order(ocl::build_program(d, "brick_order.cl")),
           count_k(ocl::make_kernel(count, "brick_count")), subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
-          write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")) {}
+          write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
+          split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
+          place_k(ocl::make_kernel(order, "brick_place")) {}
 };
 
 BrickBuilder::BrickBuilder(ocl::Device& device)
@@ -133,9 +146,47 @@ struct BuildPlan {
         const double slack = (double(clamp_c) - double(threshold(domain.levels - 1))) * (1.0 - 1.0 / 1024.0);
         return std::max(0.0f, float_down(slack));
     }
+
+    // Adaptive leaves: bricks of levels coarsest_leaf .. levels-1 may be leaves. A level-l leaf has
+    // the finest voxel and band times 2^shift(l), and folds with saturation level_clamp[l] (the
+    // finest level's is C). Uniform builds: coarsest_leaf = levels - 1.
+    int coarsest_leaf = 0;
+    float tolerance = 0.0f;
+    std::vector<float> level_clamp;
+    int finest() const { return domain.levels - 1; }
+    int shift(int level) const { return (finest() - level) * static_cast<int>(log2b); }
+    // The saturation that culling at `level` keeps exact: the children's count test, and the
+    // evaluation of this level's bricks (and every finer level's) as leaves.
+    float cull_saturation(int level) const {
+        return std::max(saturation(level + 1), level_clamp[std::max(level, coarsest_leaf)]);
+    }
 };
 
 namespace {
+
+// The coarsest leaf level and each leaf level's C; refuses a tolerance below float precision at the
+// domain's coordinates and a finest level too fine for the 63-bit Morton keys of the merge.
+void plan_adaptive(BuildPlan& p, const Aabb& box, const BuildSettings& s, double blend) {
+    const double precision = p.magnitude * std::ldexp(1.0, -20);
+    if (s.tolerance < precision)
+        throw SettingError("tolerance", fmt::format("tolerance {} is finer than float precision allows at coordinates "
+                                                    "up to {} (about {:.3g}): use a larger tolerance",
+                                                    s.tolerance, p.magnitude, precision));
+    if (p.domain.cells_per_axis(p.finest()) > (std::int64_t{1} << 21))
+        throw SettingError("leaf_size", fmt::format("an adaptive build allows at most 2^21 finest bricks per axis; "
+                                                    "leaf_size {} needs {}", s.leaf_size,
+                                                    p.domain.cells_per_axis(p.finest())));
+    const glm::dvec3 extent = box.hi - box.lo;
+    const double largest = s.max_leaf_size > 0.0 ? s.max_leaf_size : 0.25 * std::max({extent.x, extent.y, extent.z});
+    p.coarsest_leaf = p.finest();
+    while (p.coarsest_leaf > 1 && p.domain.cell_size(p.coarsest_leaf - 1) <= largest) --p.coarsest_leaf;
+    p.tolerance = static_cast<float>(s.tolerance);
+    for (int l = p.coarsest_leaf; l < p.finest(); ++l) {
+        const double band = std::ldexp(double(p.band), p.shift(l));
+        p.level_clamp[static_cast<std::size_t>(l)] =
+            float_up(std::max<double>(band, p.threshold(l)) * (1.0 + 1.0 / 256.0) + blend);
+    }
+}
 
 // The domain (levels as settings ask), then the thresholds and C. Throws InputError for levels that
 // cannot cover the geometry or exceed 2^30 leaf bricks per axis.
@@ -158,8 +209,11 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     p.magnitude = std::max({glm::abs(lo).x, glm::abs(lo).y, glm::abs(lo).z, std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
     p.voxel = s.voxel();
     p.band = static_cast<float>(s.band_voxels * p.voxel);
-    p.clamp_c = float_up(std::max<double>(p.band, p.threshold(p.domain.levels - 1)) * (1.0 + 1.0 / 256.0) +
-                         s.guard * largest_blend(g));
+    const double blend = s.guard * largest_blend(g);
+    p.clamp_c = float_up(std::max<double>(p.band, p.threshold(p.domain.levels - 1)) * (1.0 + 1.0 / 256.0) + blend);
+    p.coarsest_leaf = p.finest();
+    p.level_clamp.assign(static_cast<std::size_t>(p.domain.levels), p.clamp_c);
+    if (s.adaptive()) plan_adaptive(p, box, s, blend);
     return p;
 }
 
@@ -195,6 +249,8 @@ public:
 
     // Levels 0 .. levels-1 top-down; stops early when a level keeps nothing. Returns whether the last
     // level was reached with bricks (then the parents are the leaves).
+    // Adaptive builds check each brick of the leaf levels: those that pass are leaves, the others the
+    // next level's parents; the leaves of every level are then merged (assemble_leaves).
     bool run_levels() {
         for (int level = 0; level < plan_.domain.levels; ++level) {
             const std::uint64_t children = count_and_scan(level);
@@ -202,20 +258,31 @@ public:
             cull(level, children);
             scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, counts_.bytes() + offsets_.bytes() + words_.bytes() +
                                                                          bits_.bytes());
+            kept_.push_back(children);
             parent_count_ = children;
-            if (children == 0) break;
+            if (s_.adaptive() && level >= plan_.coarsest_leaf && level < plan_.finest() && children > 0)
+                parent_count_ = check_and_split(level);
+            if (parent_count_ == 0) break;
         }
         const bool complete =
             level_bricks_.size() + 1 == static_cast<std::size_t>(plan_.domain.levels) && parent_count_ > 0;
         level_bricks_.push_back(std::move(parents_));
+        if (s_.adaptive() && complete)  // the finest level's bricks are leaves, unchecked: nothing is finer
+            level_leaves_.push_back({plan_.finest(), parent_count_, nullptr, ocl::Buffer<float>(d_, 0),
+                                     ocl::Buffer<cl_uint>(d_, 0), nullptr});
         return complete;
     }
 
+    // Adaptive builds: the leaves of every level in one Morton-ordered list, with their edit lists
+    // in one buffer. Returns the leaf count.
+    std::uint64_t assemble_leaves();
     void evaluate_leaves(std::uint64_t leaf_count);
     void report(std::uint64_t leaf_count);
 
     std::size_t parent_count() const { return parent_count_; }
-    std::unique_ptr<ocl::Buffer<SdfBrick>> take_leaves() { return std::move(level_bricks_.back()); }
+    std::unique_ptr<ocl::Buffer<SdfBrick>> take_leaves() {
+        return merged_leaves_ ? std::move(merged_leaves_) : std::move(level_bricks_.back());
+    }
     std::unique_ptr<ocl::Buffer<cl_uint>> take_lists() { return std::move(parent_lists_); }
 
 private:
@@ -223,6 +290,9 @@ private:
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
     void cull_lists(int level, std::uint64_t children);
+    std::uint64_t check_and_split(int level);
+    void check_errors(std::vector<double>& leaf_errors) const;
+    const ocl::Buffer<SdfBrick>& leaves() const { return merged_leaves_ ? *merged_leaves_ : *level_bricks_.back(); }
     cl_uint level_log2b(int level) const { return level == 0 ? 0u : plan_.log2b; }
     float cell(int level) const { return static_cast<float>(plan_.domain.cell_size(level)); }
     std::size_t chunk_bytes() const { return static_cast<std::size_t>(s_.chunk) * sizeof(SdfEdit); }
@@ -247,6 +317,19 @@ private:
     std::vector<std::uint64_t> list_entries_;                            // every level's list entries
     ocl::Buffer<cl_uint> counts_{d_, 0}, offsets_{d_, 0}, words_{d_, 0}, bits_{d_, 0};
     std::uint64_t brick_bytes_ = 0, list_bytes_ = 0, scratch_bytes_ = 0;
+    std::vector<std::uint64_t> kept_;  // every level's kept bricks (adaptive: leaves and parents)
+    // Adaptive builds: each checked level's leaves, their check results and (once the next level's
+    // cull has replaced them as the parents' lists) the level's edit lists.
+    struct LevelLeaves {
+        int level = 0;
+        std::uint64_t count = 0;
+        std::unique_ptr<ocl::Buffer<SdfBrick>> leaves;  // null: the finest level's, in level_bricks_.back()
+        ocl::Buffer<float> errors;    // per checked brick of the level
+        ocl::Buffer<cl_uint> passed;  // per checked brick of the level
+        std::unique_ptr<ocl::Buffer<cl_uint>> lists;
+    };
+    std::vector<LevelLeaves> level_leaves_;
+    std::unique_ptr<ocl::Buffer<SdfBrick>> merged_leaves_;
 };
 
 std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
@@ -314,7 +397,7 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
     if (total_words > 0) {
         ocl::set_args(k.mark_k.get(), edits_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
-                      origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.saturation(level + 1),
+                      origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.cull_saturation(level),
                       static_cast<float>(plan_.magnitude), words_, bits_);
         scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
     }
@@ -331,7 +414,87 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     scheduler_.launch(measure::Stage::cull, level, k.write_k.get(), global, kGroup1d);
     list_bytes_ += lists->bytes();
     list_entries_.push_back(entries);
+    if (!level_leaves_.empty() && level_leaves_.back().level == level - 1) level_leaves_.back().lists = std::move(parent_lists_);
     parent_lists_ = std::move(lists);
+}
+
+// Checks this level's bricks (parents_, a level coarser than the finest) against the tolerance; those
+// that pass become this level's leaves, the others stay in parents_ for the next level. Returns the
+// parents left.
+std::uint64_t BrickBuilder::Job::check_and_split(int level) {
+    const std::uint64_t n = parent_count_;
+    const BrickLayout layout = s_.layout();
+    const std::size_t group = std::min<std::size_t>(s_.eval_group, layout.samples_per_brick());
+    const ocl::Program program = ocl::build_program(d_, "brick_check.cl", layout.defines());
+    const ocl::Kernel kernel = ocl::make_kernel(program, "brick_check");
+    LevelLeaves out{level, 0, nullptr, allocate<float>(d_, n, "the check errors"),
+                    allocate<cl_uint>(d_, n, "the check results"), nullptr};
+    const float band = std::ldexp(plan_.band, plan_.shift(level));
+    ocl::set_args(kernel.get(), edits_, *parent_lists_, *parents_, origin_.x, origin_.y, origin_.z,
+                  static_cast<float>(std::ldexp(plan_.voxel, plan_.shift(level))), plan_.level_clamp[level], band,
+                  layout.quantise_scale(band), layout.dequantise_scale(band), plan_.tolerance, plan_.band, out.errors,
+                  out.passed,
+                  ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)}, ocl::LocalMemory{group * sizeof(float)});
+    scheduler_.launch(measure::Stage::check, level, kernel.get(), n * group, group);
+    if (offsets_.size() < n) offsets_ = allocate<cl_uint>(d_, n, "the leaf offsets");
+    out.count = b_.scan_.exclusive(out.passed, offsets_, n, scheduler_, measure::Stage::check, level);
+    out.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(
+        allocate<SdfBrick>(d_, out.count, fmt::format("the leaves of level {}", level)));
+    auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(
+        allocate<SdfBrick>(d_, n - out.count, fmt::format("the parents of level {}", level + 1)));
+    const auto& k = *b_.programs_;
+    ocl::set_args(k.split_k.get(), *parents_, static_cast<cl_uint>(n), out.passed, offsets_, *out.leaves, *parents);
+    scheduler_.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
+    brick_bytes_ += out.leaves->bytes() + parents->bytes();
+    parents_ = std::move(parents);
+    const std::uint64_t left = n - out.count;
+    level_leaves_.push_back(std::move(out));
+    return left;
+}
+
+std::uint64_t BrickBuilder::Job::assemble_leaves() {
+    std::vector<cl_uint> first{0}, list_base(static_cast<std::size_t>(plan_.domain.levels), 0);
+    std::uint64_t entries = parent_lists_->size();
+    for (const LevelLeaves& l : level_leaves_) {
+        first.push_back(static_cast<cl_uint>(first.back() + l.count));
+        if (l.lists) entries += l.lists->size();
+    }
+    const std::uint64_t total = first.back();
+    ocl::Buffer<SdfBrick> all = allocate<SdfBrick>(d_, total, "the leaves of every level");
+    ocl::Buffer<cl_uint> lists = allocate<cl_uint>(d_, entries, "the edit lists of every level");
+    std::uint64_t at = 0;
+    for (const LevelLeaves& l : level_leaves_) {
+        all.copy_from(l.leaves ? *l.leaves : *level_bricks_.back(), first[&l - level_leaves_.data()]);
+        list_base[l.level] = static_cast<cl_uint>(l.lists ? at : entries - parent_lists_->size());
+        if (l.lists) lists.copy_from(*l.lists, at);
+        at += l.lists ? l.lists->size() : 0;
+    }
+    lists.copy_from(*parent_lists_, at);
+    const ocl::Buffer<cl_uint> first_d(d_, std::span<const cl_uint>(first), CL_MEM_READ_ONLY);
+    const ocl::Buffer<cl_uint> base_d(d_, std::span<const cl_uint>(list_base), CL_MEM_READ_ONLY);
+    ocl::Buffer<cl_uint> positions = allocate<cl_uint>(d_, total, "the leaf positions");
+    merged_leaves_ = std::make_unique<ocl::Buffer<SdfBrick>>(allocate<SdfBrick>(d_, total, "the leaves"));
+    const auto& k = *b_.programs_;
+    const auto count = static_cast<cl_uint>(total);
+    ocl::set_args(k.rank_k.get(), all, first_d, static_cast<cl_uint>(level_leaves_.size()), count,
+                  static_cast<cl_uint>(plan_.finest()), plan_.log2b, positions);
+    scheduler_.launch(measure::Stage::order, -1, k.rank_k.get(), round_up(total, kGroup1d), kGroup1d);
+    ocl::set_args(k.place_k.get(), all, positions, count, base_d, *merged_leaves_);
+    scheduler_.launch(measure::Stage::order, -1, k.place_k.get(), round_up(total, kGroup1d), kGroup1d);
+    list_bytes_ += lists.bytes();
+    parent_lists_ = std::make_unique<ocl::Buffer<cl_uint>>(std::move(lists));
+    return total;
+}
+
+// The check's worst error of every checked leaf (the finest level's are not checked; reads the
+// check results back, for the report).
+void BrickBuilder::Job::check_errors(std::vector<double>& leaf_errors) const {
+    for (const LevelLeaves& l : level_leaves_) {
+        const std::vector<float> errors = l.errors.read();
+        const std::vector<cl_uint> passed = l.passed.read();
+        for (std::size_t i = 0; i < errors.size(); ++i)
+            if (passed[i]) leaf_errors.push_back(errors[i]);
+    }
 }
 
 // The pool (every leaf's samples) and the leaves' boxes.
@@ -341,6 +504,7 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     out_.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
         d_, leaf_count * layout.brick_bytes(), fmt::format("the brick pool ({} bricks)", leaf_count)));
     out_.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(allocate<SdfBounds>(d_, leaf_count, "the brick AABBs"));
+    out_.shifts = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(d_, leaf_count, "the brick shifts"));
     if (leaf_count == 0) return;
     const std::size_t group = std::min<std::size_t>(s_.eval_group, samples3);
     const std::size_t per_item = (samples3 + group - 1) / group;
@@ -348,12 +512,14 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
         ocl::build_program(d_, "brick_evaluate.cl", fmt::format("{} -DPER_ITEM={}", layout.defines(), per_item));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = plan_.domain.levels - 1;
-    ocl::set_args(kernel.get(), edits_, *parent_lists_, *level_bricks_.back(), origin_.x, origin_.y, origin_.z,
-                  static_cast<float>(plan_.voxel), plan_.clamp_c, plan_.band, layout.quantise_scale(plan_.band),
-                  *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
+    const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
+    const auto finest = static_cast<cl_uint>(plan_.finest());
+    ocl::set_args(kernel.get(), edits_, *parent_lists_, leaves(), origin_.x, origin_.y, origin_.z,
+                  static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
+                  plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
     scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
-    ocl::set_args(b_.programs_->aabb_k.get(), *level_bricks_.back(), static_cast<cl_uint>(leaf_count), origin_.x,
-                  origin_.y, origin_.z, out_.leaf_size, *out_.aabbs);
+    ocl::set_args(b_.programs_->aabb_k.get(), leaves(), static_cast<cl_uint>(leaf_count), origin_.x, origin_.y,
+                  origin_.z, out_.leaf_size, finest, plan_.log2b, *out_.aabbs, *out_.shifts);
     scheduler_.launch(measure::Stage::aabb, leaf_level, b_.programs_->aabb_k.get(), round_up(leaf_count, kGroup1d),
                       kGroup1d);
 }
@@ -364,11 +530,15 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     std::uint64_t prev_entries = edits_host_.size();  // the pseudo-parent's list
     std::vector<SdfBrick> prev{pseudo_};
     for (std::size_t l = 0; l < level_bricks_.size(); ++l) {
-        const std::vector<SdfBrick> records = level_bricks_[l]->read();
+        // Adaptive builds keep only the parents of each level here (the finest level: none).
+        const std::vector<SdfBrick> records = level_bricks_[l] ? level_bricks_[l]->read() : std::vector<SdfBrick>{};
         LevelReport r;
         r.level = static_cast<int>(l);
         r.cell_size = plan_.domain.cell_size(r.level);
-        r.bricks = records.size();
+        r.bricks = l < kept_.size() ? kept_[l] : records.size();
+        r.leaves = s_.adaptive() ? 0 : (r.level == plan_.finest() ? r.bricks : 0);
+        for (const LevelLeaves& leaves : level_leaves_)
+            if (leaves.level == r.level) r.leaves = leaves.count;
         r.edit_entries = l < list_entries_.size() ? list_entries_[l] : 0;
         for (const SdfBrick& b : records) r.max_edits = std::max(r.max_edits, b.edit_count);
         evaluations += prev_entries * (l == 0 ? 1 : plan_.per_parent);  // count: every candidate child of every parent
@@ -385,7 +555,20 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
         prev_entries = r.edit_entries;
         prev = records;
     }
-    if (leaf_count > 0) {
+    if (leaf_count > 0 && s_.adaptive()) {
+        std::uint64_t entries = 0;
+        for (const SdfBrick& b : leaves().read()) {
+            entries += b.edit_count;
+            out_.edits_per_leaf_max = std::max(out_.edits_per_leaf_max, b.edit_count);
+        }
+        out_.edits_per_leaf_mean = static_cast<double>(entries) / static_cast<double>(leaf_count);
+        evaluations += entries * s_.layout().samples_per_brick();
+        std::vector<double> errors;
+        check_errors(errors);
+        std::sort(errors.begin(), errors.end());
+        out_.check_error_max = errors.empty() ? 0.0 : errors.back();
+        out_.check_error_p99 = errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, errors.size() * 99 / 100)];
+    } else if (leaf_count > 0) {
         const LevelReport& leaf = out_.level_reports.back();
         out_.edits_per_leaf_mean = static_cast<double>(leaf.edit_entries) / static_cast<double>(leaf_count);
         out_.edits_per_leaf_max = leaf.max_edits;
@@ -416,24 +599,28 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
         out.leaf_edit_indices = std::make_unique<ocl::Buffer<cl_uint>>(device_, 0);
         out.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device_, 0);
         out.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(device_, 0);
+        out.shifts = std::make_unique<ocl::Buffer<cl_uint>>(device_, 0);
         return out;
     }
     const BuildPlan plan = plan_build(g, box, s);
     out.origin = glm::vec3(plan.domain.origin);
     out.levels = plan.domain.levels;
+    out.branching = s.branching;
     out.band = plan.band;
     out.clamp_c = plan.clamp_c;
     Job job(*this, g, s, plan, scheduler, out);
     job.start();
     const bool complete = job.run_levels();
-    out.leaf_count = complete ? job.parent_count() : 0;
+    out.coarsest_leaf_level = plan.coarsest_leaf;
+    out.tolerance = s.tolerance;
+    out.leaf_count = s.adaptive() ? job.assemble_leaves() : complete ? job.parent_count() : 0;
     job.evaluate_leaves(out.leaf_count);
     device_.finish();
     scheduler.resolve();
     out.end_launch = scheduler.size();
     out.device_ms = scheduler.total_ms(out.first_launch);
     job.report(out.leaf_count);
-    out.leaves = complete ? job.take_leaves() : std::make_unique<ocl::Buffer<SdfBrick>>(device_, 0);
+    out.leaves = complete || s.adaptive() ? job.take_leaves() : std::make_unique<ocl::Buffer<SdfBrick>>(device_, 0);
     out.leaf_edit_indices = job.take_lists();
     out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
     return out;
@@ -445,7 +632,10 @@ std::string output_digest(const GeometryBuild& b, const BuildSettings& s) {
     h.add_values(std::span<const float>(domain));
     const std::array<std::int32_t, 3> layout{s.samples, static_cast<std::int32_t>(s.format), static_cast<std::int32_t>(b.leaf_count)};
     h.add_values(std::span<const std::int32_t>(layout));
-    for (const SdfBrick& r : b.leaves->read()) h.add_values(std::span<const sdf_i32>(r.coord, 3));
+    for (const SdfBrick& r : b.leaves->read()) {
+        h.add_values(std::span<const sdf_i32>(r.coord, 3));
+        if (s.adaptive()) h.add_values(std::span<const sdf_u32>(&r.level, 1));  // coordinates are per level
+    }
     const std::vector<std::uint8_t> pool = b.pool->read();
     h.add_values(std::span<const std::uint8_t>(pool));
     return h.hex();

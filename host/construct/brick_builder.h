@@ -39,12 +39,23 @@ struct BuildSettings {
     int eval_group = 128;         // work-group size of the leaf evaluation
     bool cull = true;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
+    // Adaptive leaves (docs/construction.md, "Adaptive leaves"): with tolerance > 0, leaf_size is the
+    // finest brick, and a brick of a coarser level whose samples reproduce the field within
+    // tolerance (geometry units) at every check point is a leaf; 0 = uniform (every leaf leaf_size).
+    double tolerance = 0.0;
+    double max_leaf_size = 0.0;   // adaptive: the largest leaf brick (0: a quarter of the geometry's extent)
 
+    bool adaptive() const { return tolerance > 0.0; }
     BrickLayout layout() const { return {samples, format}; }
     double voxel() const { return leaf_size / layout().interior(); }
     // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
 };
+
+// The finest brick an adaptive build needs for a tolerance when no size is given: voxels of at most
+// 2 x tolerance (so that a feature 4 tolerances thick spans two samples), rounded down to a power
+// of two of the leaf side.
+double auto_leaf_size(double tolerance, const BrickLayout& layout);
 
 struct LevelReport {
     int level = 0;
@@ -53,6 +64,7 @@ struct LevelReport {
     std::uint64_t edit_entries = 0;  // sum of the bricks' list lengths
     std::uint32_t max_edits = 0;
     double count_ms = 0.0, scan_ms = 0.0, subdivide_ms = 0.0, cull_ms = 0.0;
+    std::uint64_t leaves = 0;  // bricks of this level that are leaves (adaptive builds: checked ones)
     // The host reference's surface cells of this level (reference/surface_cells.h), when asked for.
     std::optional<std::uint64_t> reference_cells;
 };
@@ -64,6 +76,7 @@ struct GeometryBuild {
     glm::vec3 origin{0.0f};
     float leaf_size = 0.0f;
     int levels = 0;
+    int branching = 4;
     float clamp_c = 0.0f;      // saturation C of the band-limited field
     float band = 0.0f;         // stored range: +-band
     std::vector<LevelReport> level_reports;
@@ -78,7 +91,14 @@ struct GeometryBuild {
     double device_ms = 0.0;  // all launches
     double host_ms = 0.0;    // wall time of build(), including read-backs
 
-    std::unique_ptr<ocl::Buffer<SdfBrick>> leaves;
+    // Adaptive builds: the check's worst error over the leaves (geometry units), and its 99th
+    // percentile over the leaves (each leaf's worst check point); 0 for uniform builds (unchecked).
+    double tolerance = 0.0;  // 0: uniform
+    double check_error_max = 0.0, check_error_p99 = 0.0;
+    int coarsest_leaf_level = 0;  // levels - 1 for uniform builds
+
+    std::unique_ptr<ocl::Buffer<SdfBrick>> leaves;  // Morton order; a leaf's level gives its size
+    std::unique_ptr<ocl::Buffer<cl_uint>> shifts;   // per leaf: (levels - 1 - level) * log2(B), 0 when uniform
     std::unique_ptr<ocl::Buffer<cl_uint>> leaf_edit_indices;
     std::unique_ptr<ocl::Buffer<std::uint8_t>> pool;  // leaf_count * samples^3 values of the format
     std::unique_ptr<ocl::Buffer<SdfBounds>> aabbs;

@@ -16,6 +16,8 @@ enum class Stage {
     scan,          // construction, per level: prefix sums of the counts
     subdivide,     // construction, per level: the kept children, in Morton order
     cull,          // construction, per level: each child's edit list
+    check,         // construction, adaptive, per level: which bricks reproduce the field within tolerance
+    order,         // construction, adaptive: the leaves of every level merged in Morton order
     evaluate,      // construction: the leaf bricks' samples
     aabb,          // construction: the leaf bricks' boxes
     bvh,           // bottom-level BVHs over the leaf bricks
@@ -28,13 +30,15 @@ enum class Stage {
 };
 
 inline constexpr std::array kAllStages = {Stage::edit_bounds, Stage::dependencies, Stage::count, Stage::scan,
-                                          Stage::subdivide,   Stage::cull,         Stage::evaluate, Stage::aabb,
+                                          Stage::subdivide,   Stage::cull,         Stage::check,    Stage::order,
+                                          Stage::evaluate,    Stage::aabb,
                                           Stage::bvh,         Stage::tlas,         Stage::trace, Stage::shade,
                                           Stage::reference,   Stage::eval,         Stage::peaks};
 // The stages of construction, in the order a build runs them.
 inline constexpr std::array kConstructionStages = {Stage::edit_bounds, Stage::dependencies, Stage::count,
                                                    Stage::scan,        Stage::subdivide,    Stage::cull,
-                                                   Stage::evaluate,    Stage::aabb};
+                                                   Stage::check,       Stage::order,        Stage::evaluate,
+                                                   Stage::aabb};
 
 constexpr std::string_view to_string(Stage s) {
     switch (s) {
@@ -44,6 +48,8 @@ constexpr std::string_view to_string(Stage s) {
         case Stage::scan: return "scan";
         case Stage::subdivide: return "subdivide";
         case Stage::cull: return "cull";
+        case Stage::check: return "check";
+        case Stage::order: return "order";
         case Stage::evaluate: return "evaluate";
         case Stage::aabb: return "aabb";
         case Stage::bvh: return "bvh";

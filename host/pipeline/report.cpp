@@ -21,6 +21,10 @@ GeometryFigures geometry_figures(const construct::GeometryBuild& b, const measur
     g.clamp_c = b.clamp_c;
     g.band = b.band;
     g.level_table = b.level_reports;
+    g.tolerance = b.tolerance;
+    g.check_error_max = b.check_error_max;
+    g.check_error_p99 = b.check_error_p99;
+    g.brick_bytes = b.leaf_count > 0 && b.pool ? b.pool->bytes() / b.leaf_count : 0;
     g.bricks = b.leaf_count;
     g.edits_per_leaf_mean = b.edits_per_leaf_mean;
     g.edits_per_leaf_max = b.edits_per_leaf_max;
@@ -49,7 +53,7 @@ double kept_per_reference(const construct::LevelReport& l) {
 }
 
 nlohmann::json to_json(const construct::LevelReport& l) {
-    nlohmann::json j = {{"level", l.level}, {"cell_size", l.cell_size}, {"bricks", l.bricks},
+    nlohmann::json j = {{"level", l.level}, {"cell_size", l.cell_size}, {"bricks", l.bricks}, {"leaves", l.leaves},
                         {"edit_entries", l.edit_entries}, {"max_edits", l.max_edits},
                         {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
                         {"cull_ms", l.cull_ms}};
@@ -72,6 +76,8 @@ nlohmann::json to_json(const GeometryFigures& g) {
             {"leaf_size", g.leaf_size},
             {"clamp_c", g.clamp_c},
             {"band", g.band},
+            {"tolerance", g.tolerance},
+            {"check_error", {{"max", g.check_error_max}, {"p99", g.check_error_p99}}},
             {"edits_per_leaf", {{"mean", g.edits_per_leaf_mean}, {"max", g.edits_per_leaf_max}}},
             {"edit_evaluations", g.edit_evaluations},
             {"dependency_entries", g.dependency_entries},
@@ -84,14 +90,18 @@ nlohmann::json to_json(const GeometryFigures& g) {
 std::string to_text(const GeometryFigures& g) {
     std::string s = fmt::format("  geometry {}: {} leaf bricks of {} ({} levels), C = {:.4g}, band +-{:.4g}\n", g.name,
                                 g.bricks, g.leaf_size, g.levels, g.clamp_c, g.band);
+    if (g.tolerance > 0.0)
+        s += fmt::format("    adaptive: tolerance {:.4g}; check points' worst error over the leaves: max {:.4g}, "
+                         "p99 {:.4g}\n", g.tolerance, g.check_error_max, g.check_error_p99);
     const bool reference = !g.level_table.empty() && g.level_table.front().reference_cells.has_value();
-    s += fmt::format("    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms{}\n",
-                     reference ? "  reference  kept/ref" : "");
+    s += fmt::format("    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms{}{}\n",
+                     g.tolerance > 0.0 ? "     leaves   leaf pool" : "", reference ? "  reference  kept/ref" : "");
     for (const auto& l : g.level_table) {
         s += fmt::format("    {:>5}  {:<8.4g} {:>9}  {:>11.2f}  {:>4}  {:>8.3f}  {:>7.3f}  {:>9.3f}  {:>7.3f}", l.level,
                          l.cell_size, l.bricks,
                          l.bricks ? static_cast<double>(l.edit_entries) / static_cast<double>(l.bricks) : 0.0,
                          l.max_edits, l.count_ms, l.scan_ms, l.subdivide_ms, l.cull_ms);
+        if (g.tolerance > 0.0) s += fmt::format("  {:>9}  {:>10}", l.leaves, bytes_text(l.leaves * g.brick_bytes));
         s += l.reference_cells ? fmt::format("  {:>9}  {:>8.3f}\n", *l.reference_cells, kept_per_reference(l)) : "\n";
     }
     s += fmt::format("    edits per leaf: mean {:.2f}, max {}; edit evaluations {:.4g}\n", g.edits_per_leaf_mean,

@@ -33,6 +33,9 @@ struct GeometryFigures {
     int levels = 0;
     float clamp_c = 0.0f, band = 0.0f;
     std::vector<construct::LevelReport> level_table;
+    double tolerance = 0.0;  // adaptive builds; 0: uniform
+    double check_error_max = 0.0, check_error_p99 = 0.0;  // the check points' worst error over the leaves
+    std::uint64_t brick_bytes = 0;                         // one brick's samples
     std::uint64_t bricks = 0;
     double edits_per_leaf_mean = 0.0;
     std::uint32_t edits_per_leaf_max = 0;

@@ -50,6 +50,7 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder&
     const std::size_t brick_bytes = layout.brick_bytes();
     if (out.builds.size() != 1) {
         out.combined_pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device, out.bricks * brick_bytes);
+        out.combined_shifts = std::make_unique<ocl::Buffer<cl_uint>>(device, out.bricks);
     }
     std::vector<SdfBrickGeometry> table;
     std::uint64_t first = 0;
@@ -63,6 +64,7 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder&
         e.brick_offset = static_cast<sdf_u32>(first);
         table.push_back(e);
         if (out.combined_pool) out.combined_pool->copy_from(*b.pool, first * brick_bytes);
+        if (out.combined_shifts) out.combined_shifts->copy_from(*b.shifts, first);
         first += b.leaf_count;
     }
     SdfBrickGeometry none{};  // the geometry of the top level's stand-in instance when nothing has bricks
@@ -136,7 +138,7 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
     const std::array<std::size_t, 3> local{gx, gy, 1};
     const std::size_t first_launch = scheduler.size();
     ocl::set_args(k.trace.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
-                  bricks.pool(), hit, aux);
+                  bricks.pool(), bricks.shifts(), hit, aux);
     scheduler.launch(measure::Stage::trace, -1, k.trace.get(), global, local, 2);
     std::optional<ocl::Buffer<cl_float4>> colour;
     if (settings.shade) {
@@ -144,7 +146,7 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         ocl::Buffer<SdfShading> sh(device_, std::span<const SdfShading>(&shading, 1), CL_MEM_READ_ONLY);
         colour.emplace(device_, pixels);
         ocl::set_args(k.shade.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
-                      *bricks.bvh.nodes, bricks.pool(), sh, hit, *colour);
+                      *bricks.bvh.nodes, bricks.pool(), bricks.shifts(), sh, hit, *colour);
         scheduler.launch(measure::Stage::shade, -1, k.shade.get(), global, local, 2);
     }
     TraceResult out;

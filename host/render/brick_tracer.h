@@ -37,12 +37,14 @@ struct SceneBricks {
     std::vector<construct::GeometryBuild> builds;
     bvh::SceneBvh bvh;
     std::unique_ptr<ocl::Buffer<std::uint8_t>> combined_pool;  // several geometries: their pools, in order
+    std::unique_ptr<ocl::Buffer<cl_uint>> combined_shifts;     // ... and their bricks' shifts
     std::unique_ptr<ocl::Buffer<SdfBrickGeometry>> geometries;  // one per geometry, then the empty one
     std::uint64_t bricks = 0;
     double voxel_world = 0.0;  // the smallest voxel of any object, in world units
     double build_ms = 0.0;     // construction device time (all geometries)
 
     const ocl::Buffer<std::uint8_t>& pool() const { return combined_pool ? *combined_pool : *builds.front().pool; }
+    const ocl::Buffer<cl_uint>& shifts() const { return combined_shifts ? *combined_shifts : *builds.front().shifts; }
 };
 
 // Builds the bricks of every geometry of scene (already at its time): construction only (no BVH, no

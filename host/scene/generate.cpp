@@ -12,7 +12,7 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kNames = {"spheres", "drops", "cubes", "rain", "fractal", "board"};
+constexpr std::array<std::string_view, 7> kNames = {"spheres", "drops", "cubes", "rain", "fractal", "board", "thin"};
 
 // Files keep 4 decimals: readable, and what is generated is exactly what is loaded back.
 double r4(double v) { return std::round(v * 1e4) / 1e4; }
@@ -188,19 +188,54 @@ Scene board(Rng& rng) {
         g.edits.push_back(e);
     }
     for (int i = 0; i < 4; ++i) {  // slanted grooves on the bottom face
-        Edit e = make_edit(Primitive::Box, {4.0, rng.uniform(0.03, 0.06), rng.uniform(0.02, 0.05), 0},
-                           {rng.uniform(-1.0, 1.0), -0.1, rng.uniform(-2.0, 2.0)});
+        const std::array<double, 4> size{4.0, rng.uniform(0.03, 0.06), rng.uniform(0.02, 0.05), 0};
+        const glm::dvec3 at{rng.uniform(-1.0, 1.0), -0.1, rng.uniform(-2.0, 2.0)};
+        Edit e = make_edit(Primitive::Box, size, at);
         e.transform.rotation = unit(glm::angleAxis(rng.uniform(0.2, 1.3), glm::dvec3(0.0, 1.0, 0.0)));
         e.op = Op::Subtract;
         g.edits.push_back(e);
     }
     for (int i = 0; i < 8; ++i) {  // holes drilled through
-        Edit e = make_edit(Primitive::Cylinder, {0.3, rng.uniform(0.05, 0.2), 0, 0},
-                           {rng.uniform(-3.8, 3.8), 0.0, rng.uniform(-3.8, 3.8)});
+        const double radius = rng.uniform(0.05, 0.2);
+        const glm::dvec3 at{rng.uniform(-3.8, 3.8), 0.0, rng.uniform(-3.8, 3.8)};
+        Edit e = make_edit(Primitive::Cylinder, {0.3, radius, 0, 0}, at);
         e.op = Op::Subtract;
         g.edits.push_back(e);
     }
     return finish("board", 0.0, g, orbit({0.0, 0.0, 0.0}, 11.0, 30.0, 35.0));
+}
+
+// Features thinner than a voxel of a 0.0625 brick (0.0104) beside large smooth surfaces: plates
+// 0.008 thick, needles of radius 0.003, a shell 0.01 thick, standing on a large sphere. A uniform
+// build at 0.0625 steps over the thin parts; an adaptive one refines only around them.
+Scene thin(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Sphere, {1.2, 0, 0, 0}, {0.0, -1.0, 0.0}));  // the ground: large, smooth
+    Edit shell = make_edit(Primitive::Sphere, {0.45, 0, 0, 0}, {-0.9, 0.5, 0.3});
+    Edit hollow = make_edit(Primitive::Sphere, {0.44, 0, 0, 0}, {-0.9, 0.5, 0.3});
+    hollow.op = Op::Subtract;
+    Edit window = make_edit(Primitive::Box, {0.5, 0.5, 0.5, 0}, {-0.9, 0.5, 0.8});  // cut open to show the shell
+    window.op = Op::Subtract;
+    g.edits.insert(g.edits.end(), {shell, hollow, window});
+    for (int i = 0; i < 5; ++i) {  // plates 0.008 thick at varied angles
+        const std::array<double, 4> size{rng.uniform(0.2, 0.35), 0.004, rng.uniform(0.2, 0.35), 0};
+        const glm::dvec3 at{0.2 + 0.25 * i, 0.45 + rng.uniform(-0.1, 0.1), -0.4 + rng.uniform(-0.2, 0.2)};
+        Edit e = make_edit(Primitive::Box, size, at);
+        const double angle = rng.uniform(0.3, 1.3);
+        const glm::dvec3 axis = rng.in_box(glm::dvec3(-1.0), glm::dvec3(1.0)) + glm::dvec3(0.0, 0.0, 1e-3);
+        e.transform.rotation = unit(glm::angleAxis(angle, glm::normalize(axis)));
+        g.edits.push_back(e);
+    }
+    for (int i = 0; i < 12; ++i) {  // needles of radius 0.003
+        const double half = rng.uniform(0.15, 0.35);
+        const glm::dvec3 at{rng.uniform(-0.3, 1.2), rng.uniform(0.35, 0.6), rng.uniform(0.2, 0.9)};
+        Edit e = make_edit(Primitive::Capsule, {half, 0.003, 0, 0}, at);
+        const double tilt = rng.uniform(0.0, 1.5), turn = rng.uniform(0.0, 3.1);
+        e.transform.rotation = unit(glm::angleAxis(tilt, glm::dvec3(1.0, 0.0, 0.0)) *
+                                    glm::angleAxis(turn, glm::dvec3(0.0, 1.0, 0.0)));
+        g.edits.push_back(e);
+    }
+    return finish("thin", 0.0, g, orbit({0.1, 0.4, 0.2}, 3.2, 20.0, 20.0));
 }
 
 }  // namespace
@@ -216,7 +251,8 @@ Scene generate_scene(std::string_view name, std::uint64_t seed) {
     if (name == "rain") return rain(rng);
     if (name == "fractal") return fractal(rng);
     if (name == "board") return board(rng);
-    throw InputError(fmt::format("unknown scene \"{}\" (known: spheres, drops, cubes, rain, fractal, board)", name));
+    if (name == "thin") return thin(rng);
+    throw InputError(fmt::format("unknown scene \"{}\" (known: spheres, drops, cubes, rain, fractal, board, thin)", name));
 }
 
 }  // namespace sdfbrick

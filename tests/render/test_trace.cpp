@@ -88,6 +88,30 @@ void expect_defined(const RenderBuffer& b) {
     }
 }
 
+// Adaptive leaves (bricks of several sizes in one tree): both in-brick methods against the host
+// reference, with no more silhouette misses than the uniform build and no cracks where a coarse
+// brick meets a fine one (a crack would show as misses inside the silhouette).
+TEST(RenderTrace, AdaptiveLeavesMatchHostReference) {
+    const Scene scene = shipped("spheres");
+    const int w = 96, h = 64;
+    const RenderBuffer ref = reference::trace_host(scene, w, h);
+    BuildSettings s = settings(0.03125);
+    s.tolerance = 0.002;
+    for (render::Method method : {render::Method::sphere, render::Method::analytic}) {
+        const Rendered r = render_scene(scene, s, trace_settings(w, h, method));
+        const reference::AccuracyMetrics m = reference::compare(r.buffer, ref, r.bricks.voxel_world);
+        std::printf("[accuracy] adaptive %s: %llu bricks, mismatch %zu, depth mean %.4f p99 %.4f vox, normal mean %.3f deg\n",
+                    std::string(render::to_string(method)).c_str(), static_cast<unsigned long long>(r.bricks.bricks),
+                    m.hit_mismatches, m.depth_error_mean, m.depth_error_p99, m.normal_error_mean_deg);
+        EXPECT_GT(m.both_hit, 1000u);
+        EXPECT_LE(m.hit_mismatches, 6u);
+        EXPECT_LT(m.depth_error_p99, 1.0);  // finest voxels; the tolerance is 0.37 of one
+        EXPECT_LT(m.normal_error_mean_deg, 1.0);
+        expect_defined(r.buffer);
+        EXPECT_EQ(digest(r.buffer), digest(render_scene(scene, s, trace_settings(w, h, method)).buffer));
+    }
+}
+
 // Spheres scene against the host reference: every method, normal rule, format and apron.
 TEST(RenderTrace, MatchesHostReferenceOnSpheres) {
     const Scene scene = shipped("spheres");
