@@ -27,7 +27,7 @@ REQUIRED = ["scene", "device", "brick_size", "chunk", "cull", "status"]
 DEFAULTS = {"chunk": 64, "group": 128, "cull": 1, "format": "int8", "samples": 8,
             "method": "sphere", "normals": "continuous"}
 DEFAULT_TEXT = "chunk 64, group 128, cull 1, int8, 8 samples, sphere, continuous normals"
-STAGES = ["edit_bounds", "dependencies", "count", "scan", "subdivide", "cull", "evaluate", "aabb"]
+STAGES = ["edit_bounds", "dependencies", "count", "scan", "subdivide", "cull", "check", "order", "evaluate", "aabb"]
 OCCUPANCY = ["evaluate_local_bytes", "evaluate_registers", "evaluate_groups_per_cu",
              "evaluate_resident_groups", "evaluate_occupancy"]
 MARKERS = "osD^vPX*<>hp"
@@ -40,6 +40,9 @@ HOW = {
               "the fastest row for that brick size.",
     "bricks": "Log-log construction time against leaf brick count; the fitted exponent b says how "
               "construction scales (b = 1: linear in bricks, b < 1: fixed costs still matter).",
+    "adaptive": "Brick-pool memory (left) and construction time (right) against the depth error in geometry "
+                "units; solid lines are uniform builds (one point per brick size), dashed ones adaptive builds "
+                "(one point per tolerance): the lower curve reaches an accuracy with less.",
     "chunk": "Evaluate-stage time (left axis, one line per brick size, cull=1, median over the other "
              "settings) and evaluate-kernel occupancy (right axis, dashed) against chunk size.",
     "vendors": "The same configuration on every device: one bar per device and brick size, default "
@@ -47,6 +50,7 @@ HOW = {
 }
 SECTIONS = {"speed": "Speed against accuracy", "stages": "Stage breakdown",
             "bricks": "Construction time against brick count",
+            "adaptive": "Memory and construction time against accuracy",
             "chunk": "Evaluation time and occupancy against chunk size", "vendors": "Vendor comparison"}
 
 
@@ -183,6 +187,38 @@ def speed_accuracy(out, scene, rows, columns):
     axes[0][-1].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1), fontsize="small")
     fig.suptitle(f"{scene}: speed against accuracy (all ok rows)")
     out.save(fig, "speed", f"speed_accuracy_{slug(scene)}.png", scene)
+
+
+def memory_vs_accuracy(out, scene, rows, columns):
+    """Brick-pool memory and construction time against the depth error in geometry units, uniform
+    builds (tolerance 0) beside adaptive ones: which reaches an accuracy with less."""
+    if not {"tolerance", "pool_bytes", "build_ms", "depth_p99", "samples"} <= columns:
+        return out.note(f"memory vs accuracy for {scene} skipped: needs tolerance, pool_bytes, build_ms, depth_p99")
+    if not any(num(r, "tolerance") > 0 for r in rows):
+        return out.note(f"memory vs accuracy for {scene} skipped: no adaptive (tolerance > 0) rows")
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5), constrained_layout=True)
+    for device, drows in group(rows, "device").items():
+        for adaptive, marker, style in ((False, "o", "-"), (True, "^", "--")):
+            picked = [r for r in drows if (num(r, "tolerance") > 0) == adaptive]
+            # depth_p99 is in voxels of the finest brick: brick size / 6 (both layouts have 6 interior voxels)
+            pts = sorted((num(r, "depth_p99") * num(r, "brick_size") / 6,
+                          num(r, "pool_bytes") / 2**20, num(r, "build_ms")) for r in picked)
+            pts = [p for p in pts if all(np.isfinite(v) and v > 0 for v in p)]
+            if not pts:
+                continue
+            label = f"{device}, {'adaptive' if adaptive else 'uniform'}"
+            for ax, i in ((axes[0], 1), (axes[1], 2)):
+                ax.plot([p[0] for p in pts], [p[i] for p in pts], style, marker=marker, color=out.colour[device],
+                        label=label)
+    for ax, label in ((axes[0], "brick pool (MiB)"), (axes[1], "construction, median (ms)")):
+        log_axis(ax, "x")
+        log_axis(ax, "y")
+        ax.set_xlabel("depth error, 99th percentile (geometry units)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3, which="both")
+    axes[1].legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1))
+    fig.suptitle(f"{scene}: memory and construction time against accuracy, uniform and adaptive leaves")
+    out.save(fig, "adaptive", f"memory_accuracy_{slug(scene)}.png", scene)
 
 
 def stage_breakdown(out, scene, device, rows, columns):
@@ -421,6 +457,7 @@ def main():
         for device, drows in group(srows, "device").items():
             stage_breakdown(out, scene, device, drows, columns)
         build_vs_bricks(out, scene, srows, columns)
+        memory_vs_accuracy(out, scene, srows, columns)
         for device, drows in group(srows, "device").items():
             evaluate_vs_chunk(out, scene, device, drows, columns)
         if len(devices) >= 2:

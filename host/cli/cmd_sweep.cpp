@@ -25,6 +25,7 @@ struct SweepOptions {
     std::optional<std::string> file;
     std::vector<std::string> scenes, trace_groups, formats, methods, normals, culls;
     std::vector<double> brick_sizes;
+    std::vector<double> tolerances;
     std::vector<int> chunks, groups, samples;
     std::optional<int> width, height, warmup, repeat;
     bool no_accuracy = false;
@@ -45,6 +46,7 @@ sweep::SweepSpec make_spec(const SweepOptions& o, const GlobalOptions& global) {
     };
     override_with(s.scenes, o.scenes);
     override_with(s.brick_sizes, o.brick_sizes);
+    override_with(s.tolerances, o.tolerances);
     override_with(s.chunks, o.chunks);
     override_with(s.groups, o.groups);
     override_with(s.trace_groups, o.trace_groups);
@@ -125,7 +127,8 @@ void add_sweep_commands(CLI::App& app, const GlobalOptions& global) {
                                             "stages, occupancy, memory, accuracy; CSV and JSON, resumable, shardable");
     cmd->add_option("file", o->file, "sweep file (JSON, docs/sweep.md); flags override its keys");
     cmd->add_option("--scenes", o->scenes, "scene files")->delimiter(',');
-    cmd->add_option("--brick-sizes", o->brick_sizes, "leaf brick sizes")->delimiter(',');
+    cmd->add_option("--brick-sizes", o->brick_sizes, "leaf brick sizes (with a tolerance: the finest)")->delimiter(',');
+    cmd->add_option("--tolerances", o->tolerances, "adaptive tolerances (0: uniform)")->delimiter(',');
     cmd->add_option("--chunks", o->chunks, "edits per __local chunk (16..256)")->delimiter(',');
     cmd->add_option("--groups", o->groups, "evaluation work-group sizes")->delimiter(',');
     cmd->add_option("--trace-groups", o->trace_groups, "trace work-groups, WxH")->delimiter(',');

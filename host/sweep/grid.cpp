@@ -54,6 +54,8 @@ std::pair<int, int> parse_group_2d(const std::string& text, const std::string& w
 void SweepSpec::validate() const {
     if (scenes.empty()) throw InputError("sweep: no scene given (\"scenes\" is empty)");
     check_each(brick_sizes, "brick_sizes", [](double v) { return std::isfinite(v) && v > 0.0; }, "positive numbers");
+    check_each(tolerances, "tolerances", [](double v) { return std::isfinite(v) && v >= 0.0; },
+               "numbers >= 0 (0: uniform)");
     check_each(chunks, "chunks", [](int v) { return v >= 16 && v <= 256; }, "values in 16..256");
     check_each(groups, "groups", [](int v) { return v >= 1 && v <= 1024 && (v & (v - 1)) == 0; }, "powers of two in 1..1024");
     for (const std::string& g : trace_groups) parse_group_2d(g, "sweep: \"trace_groups\"");
@@ -71,13 +73,13 @@ void SweepSpec::validate() const {
 
 std::size_t SweepSpec::size_per_device() const {
     const auto n = [](std::size_t s) { return std::max<std::size_t>(s, 1); };
-    return scenes.size() * n(brick_sizes.size()) * n(chunks.size()) * n(groups.size()) * n(trace_groups.size()) *
+    return scenes.size() * n(brick_sizes.size()) * n(tolerances.size()) * n(chunks.size()) * n(groups.size()) * n(trace_groups.size()) *
            n(culls.size()) * n(formats.size()) * n(samples.size()) * n(methods.size()) * n(normals.size());
 }
 
 SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
     if (!j.is_object()) throw InputError(fmt::format("{}: a sweep file is a JSON object", where));
-    static const char* const kKeys[] = {"scenes", "brick_sizes", "chunks", "groups", "trace_groups", "cull",
+    static const char* const kKeys[] = {"scenes", "brick_sizes", "tolerances", "chunks", "groups", "trace_groups", "cull",
                                         "formats", "samples", "methods", "normals", "devices", "width",
                                         "height", "warmup", "repeat", "accuracy"};
     for (const auto& [key, value] : j.items())
@@ -86,6 +88,7 @@ SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
     SweepSpec s;
     s.scenes = list<std::string>(j, "scenes", where);
     s.brick_sizes = list<double>(j, "brick_sizes", where);
+    s.tolerances = list<double>(j, "tolerances", where);
     s.chunks = list<int>(j, "chunks", where);
     s.groups = list<int>(j, "groups", where);
     s.trace_groups = list<std::string>(j, "trace_groups", where);
@@ -108,7 +111,7 @@ SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
 }
 
 nlohmann::json to_json(const SweepSpec& s) {
-    return {{"scenes", s.scenes}, {"brick_sizes", s.brick_sizes}, {"chunks", s.chunks}, {"groups", s.groups},
+    return {{"scenes", s.scenes}, {"brick_sizes", s.brick_sizes}, {"tolerances", s.tolerances}, {"chunks", s.chunks}, {"groups", s.groups},
             {"trace_groups", s.trace_groups}, {"cull", s.culls}, {"formats", s.formats}, {"samples", s.samples},
             {"methods", s.methods}, {"normals", s.normals}, {"devices", s.devices}, {"width", s.width},
             {"height", s.height}, {"warmup", s.warmup}, {"repeat", s.repeat}, {"accuracy", s.accuracy}};
@@ -119,7 +122,8 @@ std::string SweepPoint::key(const SweepSpec& spec) const {
     return fmt::format("scene={};device={};brick={:.17g};chunk={};group={};trace_group={};cull={};format={};samples={};"
                        "method={};normals={};image={}x{};warmup={};repeat={};accuracy={}",
                        scene, device, brick_size, opt(chunk), opt(group), opt(trace_group), cull ? 1 : 0, format,
-                       samples, method, normals, spec.width, spec.height, spec.warmup, spec.repeat, spec.accuracy ? 1 : 0);
+                       samples, method, normals, spec.width, spec.height, spec.warmup, spec.repeat, spec.accuracy ? 1 : 0) +
+           (tolerance > 0.0 ? fmt::format(";tolerance={:.17g}", tolerance) : std::string());
 }
 
 std::vector<SweepPoint> expand(const SweepSpec& spec, const std::vector<std::string>& devices, std::size_t max_points) {
@@ -135,6 +139,7 @@ std::vector<SweepPoint> expand(const SweepSpec& spec, const std::vector<std::str
     for (const std::string& device : devices)
         for (const std::string& scene : spec.scenes)
             for (const auto& brick : or_default(spec.brick_sizes))
+              for (const auto& tolerance : or_default(spec.tolerances))
                 for (const auto& chunk : or_default(spec.chunks))
                     for (const auto& group : or_default(spec.groups))
                         for (const auto& trace_group : or_default(spec.trace_groups))
@@ -147,6 +152,7 @@ std::vector<SweepPoint> expand(const SweepSpec& spec, const std::vector<std::str
                                                 p.device = device;
                                                 p.scene = scene;
                                                 p.brick_size = brick.value_or(defaults.brick_size);
+                                                p.tolerance = tolerance.value_or(defaults.tolerance);
                                                 p.chunk = chunk;
                                                 p.group = group;
                                                 p.trace_group = trace_group;

@@ -17,6 +17,7 @@ namespace sdfbrick::sweep {
 struct SweepSpec {
     std::vector<std::string> scenes;  // scene files
     std::vector<double> brick_sizes;
+    std::vector<double> tolerances;                // adaptive leaves; 0 = uniform (the default)
     std::vector<int> chunks;
     std::vector<int> groups;                       // evaluation work-group size
     std::vector<std::string> trace_groups;         // "16x8"
@@ -35,7 +36,7 @@ struct SweepSpec {
     std::size_t size_per_device() const;
 };
 
-// Reads a sweep file's JSON: {"scenes": [...], "brick_sizes": [...], "chunks": [...], "groups": [...],
+// Reads a sweep file's JSON: {"scenes": [...], "brick_sizes": [...], "tolerances": [...], "chunks": [...], "groups": [...],
 // "trace_groups": ["16x8"], "cull": [true, false], "formats": [...], "samples": [...], "methods": [...],
 // "normals": [...], "devices": "all", "width": 640, "height": 360, "warmup": 1, "repeat": 3,
 // "accuracy": true}. Unknown keys are refused (InputError naming the key). where: the file, for messages.
@@ -47,6 +48,7 @@ struct SweepPoint {
     std::string scene;
     std::string device;     // the device's name
     double brick_size = 0.0625;
+    double tolerance = 0.0;
     std::optional<int> chunk, group;
     std::optional<std::string> trace_group;
     bool cull = true;

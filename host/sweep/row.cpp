@@ -84,7 +84,8 @@ void add_parameters(std::vector<Column>& c, const Place<SweepRow>& row) {
                        column("scene_file", row, &SweepRow::scene_file), column("device", row, &SweepRow::device),
                        column("vendor", row, &SweepRow::vendor), column("driver", row, &SweepRow::driver),
                        column("platform", row, &SweepRow::platform),
-                       column("brick_size", row, &SweepRow::brick_size), column("chunk", row, &SweepRow::chunk),
+                       column("brick_size", row, &SweepRow::brick_size),
+                       column("tolerance", row, &SweepRow::tolerance), column("chunk", row, &SweepRow::chunk),
                        column("group", row, &SweepRow::group), column("trace_group", row, &SweepRow::trace_group),
                        column("cull", row, &SweepRow::cull), column("format", row, &SweepRow::format),
                        column("samples", row, &SweepRow::samples), column("method", row, &SweepRow::method),
@@ -98,6 +99,8 @@ void add_outcome(std::vector<Column>& c, const Place<SweepRow>& row, const Place
     c.push_back(column("repeats", row, &SweepRow::repeats));
     c.push_back(column("identical", results, &PointResults::identical));
     c.push_back(column("bricks", results, &PointResults::bricks));
+    c.push_back(column("pool_bytes", results, &PointResults::pool_bytes));
+    c.push_back(column("check_error_max", results, &PointResults::check_error_max));
     c.push_back(column("levels", results, &PointResults::levels));
     c.push_back(column("edit_evaluations", results, &PointResults::edit_evaluations));
     c.push_back(column("memory_bytes", results, &PointResults::memory_bytes));

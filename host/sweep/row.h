@@ -45,6 +45,8 @@ struct PointResults {
     int levels = 0;
     std::uint64_t edit_evaluations = 0;
     std::uint64_t memory_bytes = 0;      // construction and BVH, every resource
+    std::uint64_t pool_bytes = 0;        // the brick pools
+    double check_error_max = 0.0;        // adaptive: the check points' worst error (geometry units)
     measure::Spread build_ms, trace_ms;  // the columns keep median, min, max and cv
     double bvh_ms = 0.0;
     std::array<double, measure::kConstructionStages.size()> stage_ms{};  // medians, kConstructionStages' order
@@ -61,6 +63,7 @@ struct SweepRow {
     std::size_t index = 0;  // position in the full grid
     std::string scene, scene_file, device, vendor, driver, platform;
     double brick_size = 0.0;
+    double tolerance = 0.0;  // adaptive leaves; 0: uniform
     std::optional<int> chunk, group;
     std::optional<std::string> trace_group;
     bool cull = true;

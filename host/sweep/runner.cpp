@@ -61,6 +61,9 @@ PointResults point_results(const pipeline::RenderFigures& f, const measure::Devi
     r.levels = f.construction.levels;
     r.edit_evaluations = f.construction.edit_evaluations;
     r.memory_bytes = total_bytes(f.construction.memory) + total_bytes(f.bvh.memory);
+    r.pool_bytes = f.construction.pool_bytes;
+    for (const pipeline::GeometryFigures& g : f.construction.geometries)
+        r.check_error_max = std::max(r.check_error_max, g.check_error_max);
     r.build_ms = f.build_ms;
     r.trace_ms = f.trace_ms;
     r.bvh_ms = f.bvh_ms.median;
@@ -85,6 +88,7 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
     ocl::Device& device = *state.device;
     construct::BuildSettings settings;
     settings.leaf_size = p.brick_size;
+    settings.tolerance = p.tolerance;
     settings.cull = p.cull;
     settings.format = *construct::format_from_string(p.format);
     settings.samples = p.samples;
@@ -127,6 +131,7 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
 // "" when the value did not come from the sweep (a tuned or built-in default).
 std::string sweep_key(const SweepSpec& spec, const SweepPoint& p, const std::string& setting) {
     if (setting == "leaf_size" && !spec.brick_sizes.empty()) return "brick_sizes";
+    if (setting == "tolerance" && !spec.tolerances.empty()) return "tolerances";
     if (setting == "chunk" && p.chunk) return "chunks";
     if (setting == "eval_group" && p.group) return "groups";
     if ((setting == "group_x" || setting == "group_y") && p.trace_group) return "trace_groups";
@@ -148,6 +153,7 @@ SweepRow point_row(const SweepSpec& spec, const SweepPoint& p, const ocl::Device
     r.driver = device ? device->driver_version : "";
     r.platform = device ? device->platform_name : "";
     r.brick_size = p.brick_size;
+    r.tolerance = p.tolerance;
     r.chunk = p.chunk;
     r.group = p.group;
     r.trace_group = p.trace_group;
