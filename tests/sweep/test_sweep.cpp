@@ -25,6 +25,28 @@ sweep::SweepSpec small_spec() {
     return s;
 }
 
+// Tolerances are an axis after brick sizes; 0 is the uniform build, whose key is the one it had
+// before the axis existed (resume caches and merges keep matching).
+TEST(Sweep, TolerancesAreAnAxis) {
+    sweep::SweepSpec s;
+    s.scenes = {"a.json"};
+    s.brick_sizes = {0.25, 0.125};
+    s.tolerances = {0.0, 0.01};
+    const auto points = sweep::expand(s, {"cpu"});
+    ASSERT_EQ(points.size(), 4u);
+    EXPECT_EQ(points[0].tolerance, 0.0);
+    EXPECT_EQ(points[1].tolerance, 0.01);
+    EXPECT_EQ(points[0].key(s).find("tolerance"), std::string::npos);
+    EXPECT_NE(points[1].key(s).find(";tolerance=0.01"), std::string::npos);
+    s.tolerances = {-1.0};
+    try {
+        s.validate();
+        ADD_FAILURE() << "a negative tolerance was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("tolerances"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Sweep, GridExpandsEveryCombinationOnce) {
     const sweep::SweepSpec s = small_spec();
     const auto points = sweep::expand(s, {"gpu", "cpu"});
@@ -197,11 +219,13 @@ TEST(Sweep, CsvHeaderIsTheColumnList) {
     const std::string csv = sweep::to_csv({});
     EXPECT_EQ(csv, joined + "\n");
     EXPECT_EQ(joined,
-              "index,scene,scene_file,device,vendor,driver,platform,brick_size,chunk,group,trace_group,cull,format,"
-              "samples,method,normals,width,height,status,error,repeats,identical,bricks,levels,edit_evaluations,"
+              "index,scene,scene_file,device,vendor,driver,platform,brick_size,tolerance,chunk,group,trace_group,cull,"
+              "format,samples,method,normals,width,height,status,error,repeats,identical,bricks,pool_bytes,"
+              "check_error_max,levels,edit_evaluations,"
               "memory_bytes,build_ms,build_min_ms,build_max_ms,build_cv,trace_ms,trace_min_ms,trace_max_ms,trace_cv,"
               "bvh_ms,stage_edit_bounds_ms,stage_dependencies_ms,stage_count_ms,stage_scan_ms,stage_subdivide_ms,"
-              "stage_cull_ms,stage_evaluate_ms,stage_aabb_ms,evaluate_local_bytes,evaluate_registers,"
+              "stage_cull_ms,stage_check_ms,stage_order_ms,stage_evaluate_ms,stage_aabb_ms,evaluate_local_bytes,"
+              "evaluate_registers,"
               "evaluate_groups_per_cu,evaluate_resident_groups,evaluate_occupancy,evaluate_waves,"
               "evaluations_per_second,write_gbps,bandwidth_fraction,peak_bandwidth_gbps,peak_fma_gflops,mismatch,"
               "depth_mean,depth_p99,normal_mean,normal_p99,psnr");
