@@ -8,6 +8,8 @@
  *     sdf_saturation_excess); kept iff |W(centre)| <= threshold + excess, or excess >= reject_slack
  *     (= C - the leaf threshold: then W cannot prove that no leaf below passes).
  * Either way every ancestor of a leaf that passes its test passes its own (docs/construction.md).
+ * The root (the pseudo-parent's only child) is kept without a test where its level is wide: it is
+ * the domain itself, one brick, and the long full edit list makes its test the slowest of all.
  * The parent's edits are staged through __local memory in chunks of chunk_size. Writes the parent's
  * child mask (bit = Morton index) and its child count. */
 #include "sdf_build.h"
@@ -26,9 +28,11 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const uint* ed
     const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)b_axis + sdf_morton_child(lid, log2b);
     const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
     const int wide = saturation > clamp_c;
+    const int keep_root = wide && b.level == 0xffffffffu;
+    const uint edit_count = keep_root ? 0u : b.edit_count;
     float field = saturation, excess = 0.0f;
-    for (uint base = 0; base < b.edit_count; base += chunk_size) {
-        const uint n = min(chunk_size, b.edit_count - base);
+    for (uint base = 0; base < edit_count; base += chunk_size) {
+        const uint n = min(chunk_size, edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -43,8 +47,8 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const uint* ed
             }
         }
     }
-    kept[lid] = (wide ? fabs(field) <= threshold + excess || excess >= reject_slack : fabs(field) <= threshold) ? 1u
-                                                                                                                : 0u;
+    kept[lid] = keep_root || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack
+                                   : fabs(field) <= threshold) ? 1u : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
         uint mask[2] = {0u, 0u}, count = 0;

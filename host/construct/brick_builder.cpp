@@ -296,6 +296,13 @@ private:
     cl_uint level_log2b(int level) const { return level == 0 ? 0u : plan_.log2b; }
     float cell(int level) const { return static_cast<float>(plan_.domain.cell_size(level)); }
     std::size_t chunk_bytes() const { return static_cast<std::size_t>(s_.chunk) * sizeof(SdfEdit); }
+    // The count stage stages edits in chunks of 256 where local memory allows (its coarse levels
+    // fold long lists with few work-groups: fewer barriers), else of the evaluation's chunk. The
+    // chunk changes no bit: the fold is in list order either way.
+    std::size_t count_chunk() const {
+        const std::size_t fits = (d_.info().local_mem_bytes - 64 * sizeof(cl_uint)) / sizeof(SdfEdit);
+        return std::max<std::size_t>(static_cast<std::size_t>(s_.chunk), std::min<std::size_t>(256, fits));
+    }
 
     BrickBuilder& b_;
     ocl::Device& d_;
@@ -339,8 +346,8 @@ std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(d_, parent_count_, "the child offsets");
     ocl::set_args(b_.programs_->count_k.get(), edits_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
                   cell(level), plan_.threshold(level), plan_.clamp_c, plan_.saturation(level), plan_.reject_slack(),
-                  static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{chunk_bytes()},
-                  static_cast<cl_uint>(s_.chunk), ocl::LocalMemory{group * sizeof(cl_uint)});
+                  static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{count_chunk() * sizeof(SdfEdit)},
+                  static_cast<cl_uint>(count_chunk()), ocl::LocalMemory{group * sizeof(cl_uint)});
     scheduler_.launch(measure::Stage::count, level, b_.programs_->count_k.get(), parent_count_ << (3 * lb), group);
     const std::uint64_t children =
         b_.scan_.exclusive(counts_, offsets_, parent_count_, scheduler_, measure::Stage::scan, level);

@@ -73,7 +73,7 @@ TEST(Cli, SceneInfoReportsEditCounts) {
 }
 
 TEST(Cli, GeneratorReproducesShippedScenes) {
-    for (const char* name : {"spheres", "drops", "cubes", "rain", "fractal"}) {
+    for (const char* name : {"spheres", "drops", "cubes", "rain", "fractal", "board", "thin"}) {
         const CliRun r = sdfbrick(std::string("scene generate ") + name);
         ASSERT_EQ(r.status, 0) << r.err;
         EXPECT_EQ(r.out, read_file(scene_path(name))) << name << ": scenes/" << name
@@ -257,6 +257,10 @@ TEST(Cli, RefusedSettingNamesItsFlag) {
          "sdfbrick: --strategy: strategy must be auto, full, random or anneal, got \"genetic\"\n"},
         {"scene info " + spheres + " --bricks 1e-12", "sdfbrick: --bricks: leaf_size 1e-12 is too small for the bounds"},
         {"build " + spheres + " --brick-size 1e-12", "sdfbrick: --brick-size: leaf_size 1e-12 is too small for the bounds"},
+        {"build " + spheres + " --tolerance 0", "sdfbrick: --tolerance: tolerance must be a positive number, got 0\n"},
+        {"build " + spheres + " --tolerance -0.5", "sdfbrick: --tolerance: tolerance must be a positive number, got -0.5\n"},
+        {"build " + spheres + " --brick-size 0.0625 --tolerance 1e-9",
+         "sdfbrick: --tolerance: tolerance 1e-09 is finer than float precision allows"},
     };
     for (const auto& [args, expect] : cases) {
         const CliRun r = sdfbrick(args, env);
