@@ -11,6 +11,15 @@ if(SDFBRICK_WITH_OIIO)
     find_package(PkgConfig REQUIRED)
     pkg_check_modules(OpenImageIO REQUIRED IMPORTED_TARGET OpenImageIO)
 endif()
+if(SDFBRICK_WITH_OPENVDB)
+    # libopenvdb-dev ships its find module (FindOpenVDB.cmake) rather than a config file.
+    list(APPEND CMAKE_MODULE_PATH "/usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB")
+    find_package(OpenVDB REQUIRED COMPONENTS openvdb)
+endif()
+if(SDFBRICK_WITH_NANOVDB)
+    # libnanovdb-dev: headers only.
+    find_path(NANOVDB_INCLUDE_DIR nanovdb/NanoVDB.h REQUIRED)
+endif()
 if(SDFBRICK_BUILD_TESTS)
     find_package(GTest REQUIRED)                    # libgtest-dev
 endif()
