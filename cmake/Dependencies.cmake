@@ -5,6 +5,7 @@ find_package(CLI11 REQUIRED)                        # libcli11-dev
 find_package(glm REQUIRED)                          # libglm-dev
 find_package(fmt REQUIRED)                          # libfmt-dev
 find_package(Threads REQUIRED)
+find_package(assimp REQUIRED)                       # libassimp-dev: mesh files (OBJ, PLY, ...)
 if(SDFBRICK_WITH_OIIO)
     # libopenimageio-dev. Through pkg-config: Debian 12's CMake config of OpenImageIO names
     # /usr/include/opencv4 as an include directory, which exists only with OpenCV's headers installed.

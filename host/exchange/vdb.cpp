@@ -1,6 +1,7 @@
 #include "exchange/vdb.h"
 
 #include <chrono>
+#include <functional>
 #include <map>
 #include <unordered_set>
 #include <utility>
@@ -45,12 +46,10 @@ void require_vdb(VdbFormat f) {
                                  open ? "-DSDFBRICK_WITH_OPENVDB" : "-DSDFBRICK_WITH_NANOVDB", open ? ".vdb" : ".nvdb"));
 }
 
-std::vector<VdbVoxel> level_set_voxels(const HostBricks& bricks, double scale) {
+void for_each_level_set_voxel(const HostBricks& bricks, double scale, const std::function<void(const VdbVoxel&)>& visit) {
     const int n = bricks.samples(), a = bricks.apron(), interior = bricks.interior();
     const float s = static_cast<float>(scale);
-    std::vector<VdbVoxel> out;
-    out.reserve(bricks.brick_count() * static_cast<std::size_t>(interior * interior * interior));
-    std::vector<VdbVoxel> apron;
+    std::unordered_set<glm::ivec3, CoordHash> apron_taken;  // apron voxels that no brick owns, once
     for (std::size_t b = 0; b < bricks.brick_count(); ++b) {
         const glm::ivec3 first = bricks.coord(b) * interior - a;
         for (int k = 0; k < n; ++k)
@@ -60,18 +59,13 @@ std::vector<VdbVoxel> level_set_voxels(const HostBricks& bricks, double scale) {
                     const bool owned = i >= a && i < a + interior && j >= a && j < a + interior && k >= a &&
                                        k < a + interior;
                     if (owned) {
-                        out.push_back(v);
-                    } else {
-                        const glm::dvec3 cell = glm::floor(glm::dvec3(v.ijk) / static_cast<double>(interior));
-                        if (!bricks.find(glm::ivec3(cell))) apron.push_back(v);
+                        visit(v);
+                        continue;
                     }
+                    const glm::dvec3 cell = glm::floor(glm::dvec3(v.ijk) / static_cast<double>(interior));
+                    if (!bricks.find(glm::ivec3(cell)) && apron_taken.insert(v.ijk).second) visit(v);
                 }
     }
-    // Apron voxels that several bricks hold: the first in brick (Morton) order.
-    std::unordered_set<glm::ivec3, CoordHash> taken;
-    for (const VdbVoxel& v : apron)
-        if (taken.insert(v.ijk).second) out.push_back(v);
-    return out;
 }
 
 IndexToWorld index_to_world(const HostBricks& bricks, const Transform& object) {
@@ -119,7 +113,8 @@ std::vector<ObjectGrid> object_grids(const Scene& scene, std::span<const HostBri
 openvdb::FloatTree::Ptr openvdb_tree(const HostBricks& b, double scale) {
     auto tree = std::make_shared<openvdb::FloatTree>(static_cast<float>(b.band() * scale));
     openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(*tree);
-    for (const VdbVoxel& v : level_set_voxels(b, scale)) acc.setValueOn(openvdb::Coord(v.ijk.x, v.ijk.y, v.ijk.z), v.value);
+    for_each_level_set_voxel(
+        b, scale, [&](const VdbVoxel& v) { acc.setValueOn(openvdb::Coord(v.ijk.x, v.ijk.y, v.ijk.z), v.value); });
     openvdb::tools::signedFloodFill(*tree);
     return tree;
 }
@@ -165,8 +160,9 @@ void write_nanovdb(std::span<const HostBricks> bricks, std::vector<ObjectGrid>& 
         const HostBricks& b = bricks[g.geometry];
         nanovdb::GridBuilder<float> builder(static_cast<float>(g.record.background), nanovdb::GridClass::LevelSet);
         auto acc = builder.getAccessor();
-        for (const VdbVoxel& v : level_set_voxels(b, g.object->transform.scale))
+        for_each_level_set_voxel(b, g.object->transform.scale, [&](const VdbVoxel& v) {
             acc.setValue(nanovdb::Coord(v.ijk.x, v.ijk.y, v.ijk.z), v.value);
+        });
         builder.sdfToLevelSet();
         const IndexToWorld m = index_to_world(b, g.object->transform);
         const glm::dmat3 forward(m.axis[0], m.axis[1], m.axis[2]);

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -41,9 +42,10 @@ struct IndexToWorld {
     glm::dvec3 origin{0.0};
 };
 
-// The voxels of a geometry's brick set, distances times scale: every brick's interior samples, then
-// apron samples on voxels no brick's interior holds (once each, first brick in Morton order).
-std::vector<VdbVoxel> level_set_voxels(const HostBricks& bricks, double scale);
+// Visits the voxels of a geometry's brick set, distances times scale, in brick (Morton) order: every
+// brick's interior samples, and its apron samples on voxels no brick's interior holds (the first
+// brick that has one), each voxel once. Streams: nothing the size of the set is held.
+void for_each_level_set_voxel(const HostBricks& bricks, double scale, const std::function<void(const VdbVoxel&)>& visit);
 // Voxel (i, j, k) of the geometry lattice sits at origin + (ijk + 0.5) * voxel in the geometry frame.
 IndexToWorld index_to_world(const HostBricks& bricks, const Transform& object);
 

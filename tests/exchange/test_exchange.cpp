@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <string>
-#include <unordered_set>
+#include <unordered_map>
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -132,14 +132,22 @@ TEST(ExchangeVdb, LevelSetVoxelsAreUniqueAndCoverEveryInteriorSample) {
     const Scene scene = two_geometries();
     const std::vector<HostBricks> bricks = host_bricks(scene, settings(construct::BrickFormat::int8));
     const HostBricks& b = bricks[1];
-    const std::vector<exchange::VdbVoxel> voxels = exchange::level_set_voxels(b, 2.0);
-    std::unordered_set<glm::ivec3, exchange::CoordHash> seen;
-    for (const exchange::VdbVoxel& v : voxels) EXPECT_TRUE(seen.insert(v.ijk).second) << "a voxel written twice";
-    const int n = b.interior();
+    std::unordered_map<glm::ivec3, float, exchange::CoordHash> voxels;
+    std::size_t visits = 0;
+    exchange::for_each_level_set_voxel(b, 2.0, [&](const exchange::VdbVoxel& v) {
+        ++visits;
+        voxels.emplace(v.ijk, v.value);
+    });
+    EXPECT_EQ(visits, voxels.size()) << "a voxel visited twice";
+    const int n = b.interior(), a = b.apron();
     EXPECT_GT(voxels.size(), b.brick_count() * static_cast<std::size_t>(n * n * n));  // aprons at the band's edge
-    const glm::ivec3 first = b.coord(0) * n;
-    EXPECT_EQ(voxels.front().ijk, first);
-    EXPECT_EQ(voxels.front().value, 2.0f * b.sample(0, b.apron(), b.apron(), b.apron()));
+    for (std::size_t brick = 0; brick < b.brick_count(); brick += 5)
+        for (int k = a; k < a + n; ++k)
+            for (int i = a; i < a + n; ++i) {
+                const auto it = voxels.find(b.coord(brick) * n + glm::ivec3(i, 2, k) - a);
+                ASSERT_NE(it, voxels.end());
+                EXPECT_EQ(it->second, 2.0f * b.sample(brick, i, 2, k));
+            }
 }
 
 TEST(ExchangeVdb, WithoutTheLibraryTheErrorNamesThePackage) {
