@@ -5,11 +5,21 @@ find_package(CLI11 REQUIRED)                        # libcli11-dev
 find_package(glm REQUIRED)                          # libglm-dev
 find_package(fmt REQUIRED)                          # libfmt-dev
 find_package(Threads REQUIRED)
+find_package(assimp REQUIRED)                       # libassimp-dev: mesh files (OBJ, PLY, ...)
 if(SDFBRICK_WITH_OIIO)
     # libopenimageio-dev. Through pkg-config: Debian 12's CMake config of OpenImageIO names
     # /usr/include/opencv4 as an include directory, which exists only with OpenCV's headers installed.
     find_package(PkgConfig REQUIRED)
     pkg_check_modules(OpenImageIO REQUIRED IMPORTED_TARGET OpenImageIO)
+endif()
+if(SDFBRICK_WITH_OPENVDB)
+    # libopenvdb-dev ships its find module (FindOpenVDB.cmake) rather than a config file.
+    list(APPEND CMAKE_MODULE_PATH "/usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB")
+    find_package(OpenVDB REQUIRED COMPONENTS openvdb)
+endif()
+if(SDFBRICK_WITH_NANOVDB)
+    # libnanovdb-dev: headers only.
+    find_path(NANOVDB_INCLUDE_DIR nanovdb/NanoVDB.h REQUIRED)
 endif()
 if(SDFBRICK_BUILD_TESTS)
     find_package(GTest REQUIRED)                    # libgtest-dev

@@ -8,6 +8,8 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers
   libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libopenimageio-dev
+  libassimp-dev
+  libopenvdb-dev libnanovdb-dev libboost-iostreams-dev  # OpenVDB's CMake module asks for Boost.Iostreams
   libgtest-dev libbenchmark-dev
   python3-matplotlib python3-numpy
 )

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
     cli::add_render_command(app, global);
     cli::add_sweep_commands(app, global);
     cli::add_tune_command(app, global);
+    cli::add_export_commands(app, global);
     cli::add_compare_command(app);
 
     try {

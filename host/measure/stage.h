@@ -27,13 +27,14 @@ enum class Stage {
     reference,     // the device reference tracer (analytic edits)
     eval,          // field evaluation at points
     peaks,         // the bandwidth and FMA kernels of devices --peaks
+    mesh,          // a mesh's signed distance grid (kernels/mesh_sdf.cl)
 };
 
 inline constexpr std::array kAllStages = {Stage::edit_bounds, Stage::dependencies, Stage::count, Stage::scan,
                                           Stage::subdivide,   Stage::cull,         Stage::check,    Stage::order,
                                           Stage::evaluate,    Stage::aabb,
                                           Stage::bvh,         Stage::tlas,         Stage::trace, Stage::shade,
-                                          Stage::reference,   Stage::eval,         Stage::peaks};
+                                          Stage::reference,   Stage::eval,         Stage::peaks, Stage::mesh};
 // The stages of construction, in the order a build runs them.
 inline constexpr std::array kConstructionStages = {Stage::edit_bounds, Stage::dependencies, Stage::count,
                                                    Stage::scan,        Stage::subdivide,    Stage::cull,
@@ -59,6 +60,7 @@ constexpr std::string_view to_string(Stage s) {
         case Stage::reference: return "reference";
         case Stage::eval: return "eval";
         case Stage::peaks: return "peaks";
+        case Stage::mesh: return "mesh";
     }
     return "?";
 }

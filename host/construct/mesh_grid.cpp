@@ -1,0 +1,186 @@
+#include "construct/mesh_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "cl/buffer.h"
+#include "cl/launch.h"
+#include "core/errors.h"
+
+namespace sdfbrick::construct {
+
+namespace {
+
+constexpr int kKernelStack = 64;  // MESH_STACK of mesh_sdf.cl
+
+glm::dvec3 corner(const TriangleMesh& m, std::size_t t, int c) { return m.vertices[m.triangles[t][c]]; }
+
+// Interior angle of triangle t at corner c.
+double angle_at(const TriangleMesh& m, std::size_t t, int c) {
+    const glm::dvec3 a = corner(m, t, c), b = corner(m, t, (c + 1) % 3), d = corner(m, t, (c + 2) % 3);
+    const glm::dvec3 u = glm::normalize(b - a), v = glm::normalize(d - a);
+    return std::acos(std::clamp(glm::dot(u, v), -1.0, 1.0));
+}
+
+// Pseudo-normals: the face normals; per edge the sum of its faces' normals; per vertex the sum of
+// its faces' normals weighted by the angle at the vertex. Unnormalised sums point the same way.
+void pseudo_normals(const TriangleMesh& m, MeshBvh& out) {
+    const std::size_t n = m.triangles.size();
+    std::vector<glm::dvec3> face(n), vertex(m.vertices.size(), glm::dvec3(0.0));
+    std::map<std::pair<std::uint32_t, std::uint32_t>, glm::dvec3> edge;
+    for (std::size_t t = 0; t < n; ++t) {
+        face[t] = glm::normalize(glm::cross(corner(m, t, 1) - corner(m, t, 0), corner(m, t, 2) - corner(m, t, 0)));
+        for (int c = 0; c < 3; ++c) {
+            vertex[m.triangles[t][c]] += angle_at(m, t, c) * face[t];
+            const std::uint32_t a = m.triangles[t][c], b = m.triangles[t][(c + 1) % 3];
+            edge[{std::min(a, b), std::max(a, b)}] += face[t];
+        }
+    }
+    out.normals.resize(21 * n);
+    for (std::size_t t = 0; t < n; ++t) {
+        glm::dvec3 rows[7];
+        rows[0] = face[t];
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t a = m.triangles[t][c], b = m.triangles[t][(c + 1) % 3];
+            rows[1 + c] = edge[{std::min(a, b), std::max(a, b)}];
+            rows[4 + c] = vertex[m.triangles[t][c]];
+        }
+        for (int r = 0; r < 7; ++r)
+            for (int x = 0; x < 3; ++x) out.normals[21 * t + 3 * r + x] = static_cast<float>(rows[r][x]);
+    }
+}
+
+struct Builder {
+    const TriangleMesh& mesh;
+    std::vector<Aabb> boxes;          // per triangle, float-rounded outward
+    std::vector<glm::dvec3> centres;  // per triangle
+    std::vector<SdfBvhNode>& nodes;
+    int depth = 0;
+
+    Aabb box_of(std::span<const std::uint32_t> tris) const {
+        Aabb b;
+        for (std::uint32_t t : tris) b.grow(boxes[t]);
+        return b;
+    }
+
+    // The subtree over tris (non-empty) as child reference: ~triangle for one, else a node index.
+    int build(std::span<std::uint32_t> tris, int level) {
+        depth = std::max(depth, level);
+        if (tris.size() == 1) return ~static_cast<int>(tris[0]);
+        Aabb c;
+        for (std::uint32_t t : tris) c.grow(centres[t]);
+        const glm::dvec3 e = c.extent();
+        const int axis = e.x >= e.y && e.x >= e.z ? 0 : e.y >= e.z ? 1 : 2;
+        const std::size_t half = tris.size() / 2;
+        std::nth_element(tris.begin(), tris.begin() + static_cast<std::ptrdiff_t>(half), tris.end(),
+                         [&](std::uint32_t a, std::uint32_t b) {
+                             return centres[a][axis] < centres[b][axis] || (centres[a][axis] == centres[b][axis] && a < b);
+                         });
+        const int index = static_cast<int>(nodes.size());
+        nodes.emplace_back();
+        const std::span<std::uint32_t> halves[2] = {tris.first(half), tris.subspan(half)};
+        for (int side = 0; side < 2; ++side) {
+            const int child = build(halves[side], level + 1);
+            const Aabb b = box_of(halves[side]);
+            SdfBvhNode& node = nodes[static_cast<std::size_t>(index)];
+            float* lo = side == 0 ? node.lo0 : node.lo1;
+            float* hi = side == 0 ? node.hi0 : node.hi1;
+            for (int x = 0; x < 3; ++x) {
+                lo[x] = static_cast<float>(b.lo[x]);
+                hi[x] = static_cast<float>(b.hi[x]);
+            }
+            node.child[side] = child;
+        }
+        return index;
+    }
+};
+
+}  // namespace
+
+double cell_for_resolution(const TriangleMesh& mesh, int resolution) {
+    const glm::dvec3 e = mesh.bounds().extent();
+    return std::max({e.x, e.y, e.z}) / resolution;
+}
+
+MeshBvh build_mesh_bvh(const TriangleMesh& mesh) {
+    MeshBvh out;
+    const std::size_t n = mesh.triangles.size();
+    if (n == 0) throw std::invalid_argument("build_mesh_bvh: a mesh without triangles");
+    Builder b{mesh, std::vector<Aabb>(n), std::vector<glm::dvec3>(n), out.nodes};
+    out.corners.resize(9 * n);
+    for (std::size_t t = 0; t < n; ++t) {
+        for (int c = 0; c < 3; ++c) {
+            const glm::vec3 v(corner(mesh, t, c));  // the floats the kernel reads; boxes hold them exactly
+            b.boxes[t].grow(glm::dvec3(v));
+            for (int x = 0; x < 3; ++x) out.corners[9 * t + 3 * c + x] = v[x];
+        }
+        b.centres[t] = b.boxes[t].centre();
+    }
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    if (n == 1) {  // a root node whose two children are the one triangle
+        out.nodes.emplace_back();
+        SdfBvhNode& root = out.nodes[0];
+        for (int x = 0; x < 3; ++x) {
+            root.lo0[x] = root.lo1[x] = static_cast<float>(b.boxes[0].lo[x]);
+            root.hi0[x] = root.hi1[x] = static_cast<float>(b.boxes[0].hi[x]);
+        }
+        root.child[0] = root.child[1] = ~0;
+    } else {
+        b.build(order, 0);
+    }
+    out.depth = b.depth;
+    pseudo_normals(mesh, out);
+    return out;
+}
+
+MeshGridBuilder::MeshGridBuilder(ocl::Device& device)
+    : device_(device), program_(ocl::build_program(device, "mesh_sdf.cl")), kernel_(ocl::make_kernel(program_, "mesh_sdf")) {}
+
+MeshGrid MeshGridBuilder::build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler) {
+    if (!(spec.cell > 0.0) || !std::isfinite(spec.cell))
+        throw SettingError("cell", fmt::format("the mesh grid's cell must be positive and finite, got {}", spec.cell));
+    const Aabb box = mesh.bounds();
+    MeshGrid grid;
+    grid.cell = spec.cell;
+    grid.origin = box.lo - spec.padding * spec.cell;
+    const glm::dvec3 cells = glm::ceil(box.extent() / spec.cell) + 2.0 * spec.padding;
+    if (cells.x > 4096 || cells.y > 4096 || cells.z > 4096)
+        throw InputError(fmt::format("a mesh grid of {} x {} x {} cells is more than 4096 along an axis: use a larger cell",
+                                     cells.x, cells.y, cells.z));
+    grid.dims = glm::ivec3(cells) + 1;
+    const std::size_t points = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
+    const MeshBvh bvh = build_mesh_bvh(mesh);
+    if (bvh.depth >= kKernelStack)
+        throw InputError(fmt::format("the mesh's triangle tree is {} levels deep; the kernel holds {}", bvh.depth, kKernelStack));
+    const auto upload = [&](auto data, const char* what) {
+        using T = typename decltype(data)::value_type;
+        if (data.size_bytes() > device_.info().max_alloc_bytes)
+            throw InputError(fmt::format("{} of the mesh need {} bytes; {} allocates at most {} bytes at once", what,
+                                         data.size_bytes(), device_.info().name, device_.info().max_alloc_bytes));
+        return ocl::Buffer<T>(device_, data, CL_MEM_READ_ONLY);
+    };
+    const auto nodes = upload(std::span<const SdfBvhNode>(bvh.nodes), "the triangle tree nodes");
+    const auto corners = upload(std::span<const float>(bvh.corners), "the triangle corners");
+    const auto normals = upload(std::span<const float>(bvh.normals), "the pseudo-normals");
+    if (points * sizeof(float) > device_.info().max_alloc_bytes)
+        throw InputError(fmt::format("a mesh grid of {} points needs {} bytes; {} allocates at most {} bytes at once",
+                                     points, points * sizeof(float), device_.info().name, device_.info().max_alloc_bytes));
+    ocl::Buffer<float> out(device_, points);
+    const glm::vec3 o(grid.origin);
+    ocl::set_args(kernel_.get(), nodes, corners, normals, o.x, o.y, o.z, static_cast<float>(grid.cell),
+                  static_cast<cl_uint>(grid.dims.x), static_cast<cl_uint>(grid.dims.y), static_cast<cl_uint>(grid.dims.z), out);
+    const std::size_t group = 64;
+    scheduler.launch(measure::Stage::mesh, -1, kernel_.get(), (points + group - 1) / group * group, group);
+    grid.values = out.read();
+    grid.origin = glm::dvec3(o);  // the floats the kernel used
+    grid.cell = static_cast<float>(grid.cell);
+    return grid;
+}
+
+}  // namespace sdfbrick::construct

@@ -1,0 +1,67 @@
+// A closed triangle mesh converted on the device to a signed distance grid (kernels/mesh_sdf.cl):
+// the exact distance to the mesh at every grid point, found through a BVH over the triangles (not
+// brute force), signed by angle-weighted pseudo-normals. The grid is what a mesh edit samples.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cl/device.h"
+#include "cl/program.h"
+#include "measure/scheduler.h"
+#include "scene/mesh.h"
+#include "sdf_types.h"
+
+namespace sdfbrick::construct {
+
+// Grid point (i, j, k) sits at origin + (i, j, k) * cell; i runs fastest in values.
+struct MeshGrid {
+    glm::dvec3 origin{0.0};
+    double cell = 0.0;
+    glm::ivec3 dims{0};
+    std::vector<float> values;
+
+    float at(int i, int j, int k) const {
+        return values[static_cast<std::size_t>(i) + static_cast<std::size_t>(dims.x) *
+                                                        (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims.y) * k)];
+    }
+};
+
+// The grid over a mesh: cells of side `cell` covering its bounds grown by `padding` cells per side.
+struct MeshGridSpec {
+    double cell = 0.0;
+    int padding = 2;
+};
+// The cell that puts `resolution` cells along the longest side of the mesh's bounds.
+double cell_for_resolution(const TriangleMesh& mesh, int resolution);
+
+// The mesh's triangles as the kernel reads them: the BVH (leaves ~triangle), 9 corner floats and
+// 21 pseudo-normal floats per triangle (face, edges ab bc ca, vertices a b c). Built on the host in
+// double precision; the tree splits at the median by a total order (centroid, index), so it is the
+// same everywhere, and its depth stays below the kernel's stack.
+struct MeshBvh {
+    std::vector<SdfBvhNode> nodes;
+    std::vector<float> corners;
+    std::vector<float> normals;
+    int depth = 0;
+};
+MeshBvh build_mesh_bvh(const TriangleMesh& mesh);
+
+class MeshGridBuilder {
+public:
+    explicit MeshGridBuilder(ocl::Device& device);
+
+    // Throws InputError when the grid or the mesh does not fit the device (naming what and how much),
+    // SettingError("cell") for a cell that is not positive and finite.
+    MeshGrid build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler);
+
+private:
+    ocl::Device& device_;
+    ocl::Program program_;
+    ocl::Kernel kernel_;
+};
+
+}  // namespace sdfbrick::construct

@@ -1,0 +1,67 @@
+// One geometry's brick set read back to the host: the leaf bricks, their samples as distances
+// (geometry units), and the field the brick tracer sees (kernels/sdf_trace.h, tr_field): inside a
+// leaf brick, the trilinear interpolation of that brick's own samples; no value outside the bricks.
+// What the exporters (exchange/vdb.h) and point sampling (exchange/sample.h) read.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "construct/brick_builder.h"
+
+namespace sdfbrick::exchange {
+
+// Hash of a lattice coordinate (unordered containers keyed by brick or voxel coordinates).
+struct CoordHash {
+    std::size_t operator()(const glm::ivec3& c) const;
+};
+
+// The field and its gradient at a point (geometry units).
+struct BrickSample {
+    double distance = 0.0;
+    glm::dvec3 gradient{0.0};
+};
+
+class HostBricks {
+public:
+    // Reads the leaves and the pool of b (built with settings) back from the device.
+    HostBricks(const construct::GeometryBuild& b, const construct::BuildSettings& settings);
+
+    std::size_t brick_count() const { return coords_.size(); }
+    int samples() const { return samples_; }
+    int apron() const { return apron_; }
+    int interior() const { return samples_ - 2 * apron_; }
+    double voxel() const { return voxel_; }
+    double band() const { return band_; }        // stored distances lie in [-band, band]
+    double quantum() const { return quantum_; }  // one quantisation step (0 for float samples)
+    const glm::dvec3& origin() const { return origin_; }
+    const glm::ivec3& coord(std::size_t brick) const { return coords_[brick]; }
+    // Sample (i, j, k) of a brick as a distance; it sits at
+    // origin + (coord * interior + (i, j, k) - apron + 0.5) * voxel.
+    float sample(std::size_t brick, int i, int j, int k) const {
+        return values_[brick * samples_per_brick_ +
+                       static_cast<std::size_t>(i + samples_ * (j + samples_ * k))];
+    }
+    // The brick holding the lattice cell coord, if there is one.
+    std::optional<std::size_t> find(const glm::ivec3& coord) const;
+
+    // The field at a geometry-frame point: the trilinear value and its gradient in the leaf brick
+    // whose cell contains p; nullopt outside every brick.
+    std::optional<BrickSample> at(const glm::dvec3& p) const;
+
+private:
+    glm::dvec3 origin_{0.0};
+    double leaf_size_ = 0.0, voxel_ = 0.0, band_ = 0.0, quantum_ = 0.0;
+    int samples_ = 0, apron_ = 0;
+    std::size_t samples_per_brick_ = 0;
+    std::vector<glm::ivec3> coords_;
+    std::vector<float> values_;
+    std::unordered_map<glm::ivec3, std::uint32_t, CoordHash> index_;
+};
+
+}  // namespace sdfbrick::exchange

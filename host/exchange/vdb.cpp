@@ -1,0 +1,207 @@
+#include "exchange/vdb.h"
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <unordered_set>
+#include <utility>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/files.h"
+
+#if SDFBRICK_WITH_OPENVDB
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/SignedFloodFill.h>
+#endif
+#if SDFBRICK_WITH_NANOVDB
+#include <nanovdb/util/GridBuilder.h>
+#include <nanovdb/util/IO.h>
+#endif
+
+namespace sdfbrick::exchange {
+
+std::string_view to_string(VdbFormat f) { return f == VdbFormat::openvdb ? "OpenVDB" : "NanoVDB"; }
+
+bool vdb_available(VdbFormat f) {
+#if SDFBRICK_WITH_OPENVDB
+    if (f == VdbFormat::openvdb) return true;
+#endif
+#if SDFBRICK_WITH_NANOVDB
+    if (f == VdbFormat::nanovdb) return true;
+#endif
+    (void)f;
+    return false;
+}
+
+void require_vdb(VdbFormat f) {
+    if (vdb_available(f)) return;
+    const bool open = f == VdbFormat::openvdb;
+    throw InputError(fmt::format("this sdfbrick was built without {} ({}): install it and configure with {}=ON to "
+                                 "write {} files",
+                                 to_string(f), open ? "libopenvdb-dev" : "libnanovdb-dev",
+                                 open ? "-DSDFBRICK_WITH_OPENVDB" : "-DSDFBRICK_WITH_NANOVDB", open ? ".vdb" : ".nvdb"));
+}
+
+void for_each_level_set_voxel(const HostBricks& bricks, double scale, const std::function<void(const VdbVoxel&)>& visit) {
+    const int n = bricks.samples(), a = bricks.apron(), interior = bricks.interior();
+    const float s = static_cast<float>(scale);
+    std::unordered_set<glm::ivec3, CoordHash> apron_taken;  // apron voxels that no brick owns, once
+    for (std::size_t b = 0; b < bricks.brick_count(); ++b) {
+        const glm::ivec3 first = bricks.coord(b) * interior - a;
+        for (int k = 0; k < n; ++k)
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const VdbVoxel v{first + glm::ivec3(i, j, k), bricks.sample(b, i, j, k) * s};
+                    const bool owned = i >= a && i < a + interior && j >= a && j < a + interior && k >= a &&
+                                       k < a + interior;
+                    if (owned) {
+                        visit(v);
+                        continue;
+                    }
+                    const glm::dvec3 cell = glm::floor(glm::dvec3(v.ijk) / static_cast<double>(interior));
+                    if (!bricks.find(glm::ivec3(cell)) && apron_taken.insert(v.ijk).second) visit(v);
+                }
+    }
+}
+
+IndexToWorld index_to_world(const HostBricks& bricks, const Transform& object) {
+    // world = R (s p) + t with p = origin + (ijk + 0.5) voxel.
+    const glm::dmat3 r = glm::mat3_cast(object.rotation);
+    const double step = object.scale * bricks.voxel();
+    IndexToWorld m;
+    for (int axis = 0; axis < 3; ++axis) m.axis[axis] = r[axis] * step;
+    m.origin = object.apply(bricks.origin() + 0.5 * bricks.voxel());
+    return m;
+}
+
+namespace {
+
+// One object's grid: what it is called and where its samples come from.
+struct ObjectGrid {
+    VdbGridRecord record;
+    std::size_t geometry = 0;
+    const Object* object = nullptr;
+};
+
+std::vector<ObjectGrid> object_grids(const Scene& scene, std::span<const HostBricks> bricks) {
+    std::vector<ObjectGrid> out;
+    std::map<std::string, int> uses;
+    for (std::size_t o = 0; o < scene.objects.size(); ++o) {
+        const Object& obj = scene.objects[o];
+        const HostBricks& b = bricks[obj.geometry];
+        if (b.brick_count() == 0) continue;
+        ObjectGrid g;
+        std::string name = obj.name.empty() ? fmt::format("object {}", o) : obj.name;
+        const int seen = uses[name]++;
+        g.record.name = seen == 0 ? name : fmt::format("{}#{}", name, seen);
+        g.record.geometry = scene.geometries[obj.geometry].name;
+        g.record.voxel_size = b.voxel() * obj.transform.scale;
+        g.record.background = b.band() * obj.transform.scale;
+        g.record.quantum = b.quantum() * obj.transform.scale;
+        g.geometry = obj.geometry;
+        g.object = &obj;
+        out.push_back(std::move(g));
+    }
+    return out;
+}
+
+#if SDFBRICK_WITH_OPENVDB
+openvdb::FloatTree::Ptr openvdb_tree(const HostBricks& b, double scale) {
+    auto tree = std::make_shared<openvdb::FloatTree>(static_cast<float>(b.band() * scale));
+    openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(*tree);
+    for_each_level_set_voxel(
+        b, scale, [&](const VdbVoxel& v) { acc.setValueOn(openvdb::Coord(v.ijk.x, v.ijk.y, v.ijk.z), v.value); });
+    openvdb::tools::signedFloodFill(*tree);
+    return tree;
+}
+
+void write_openvdb(const Scene& scene, std::span<const HostBricks> bricks, std::vector<ObjectGrid>& grids,
+                   const std::filesystem::path& path) {
+    openvdb::initialize();
+    openvdb::GridPtrVec out;
+    std::map<std::pair<std::size_t, double>, openvdb::FloatTree::Ptr> trees;  // (geometry, scale): shared
+    for (ObjectGrid& g : grids) {
+        const HostBricks& b = bricks[g.geometry];
+        auto& tree = trees[{g.geometry, g.object->transform.scale}];
+        if (!tree) tree = openvdb_tree(b, g.object->transform.scale);
+        openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(tree);
+        const IndexToWorld m = index_to_world(b, g.object->transform);
+        openvdb::math::Mat4d mat = openvdb::math::Mat4d::identity();
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) mat[j][i] = m.axis[j][i];
+        for (int i = 0; i < 3; ++i) mat[3][i] = m.origin[i];
+        grid->setTransform(openvdb::math::Transform::createLinearTransform(mat));
+        grid->setName(g.record.name);
+        grid->setGridClass(openvdb::GRID_LEVEL_SET);
+        grid->setSaveFloatAsHalf(false);
+        grid->insertMeta("sdfbrick_scene", openvdb::StringMetadata(scene.name));
+        grid->insertMeta("sdfbrick_geometry", openvdb::StringMetadata(g.record.geometry));
+        grid->insertMeta("sdfbrick_quantisation_step", openvdb::DoubleMetadata(g.record.quantum));
+        g.record.active_voxels = grid->activeVoxelCount();
+        out.push_back(grid);
+    }
+    write_via_temp(path, [&](const std::filesystem::path& temp) {
+        openvdb::io::File file(temp.string());
+        file.write(out);
+        file.close();
+    });
+}
+#endif
+
+#if SDFBRICK_WITH_NANOVDB
+void write_nanovdb(std::span<const HostBricks> bricks, std::vector<ObjectGrid>& grids,
+                   const std::filesystem::path& path) {
+    std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>> handles;
+    for (ObjectGrid& g : grids) {
+        const HostBricks& b = bricks[g.geometry];
+        nanovdb::GridBuilder<float> builder(static_cast<float>(g.record.background), nanovdb::GridClass::LevelSet);
+        auto acc = builder.getAccessor();
+        for_each_level_set_voxel(b, g.object->transform.scale, [&](const VdbVoxel& v) {
+            acc.setValue(nanovdb::Coord(v.ijk.x, v.ijk.y, v.ijk.z), v.value);
+        });
+        builder.sdfToLevelSet();
+        const IndexToWorld m = index_to_world(b, g.object->transform);
+        const glm::dmat3 forward(m.axis[0], m.axis[1], m.axis[2]);
+        const glm::dmat3 inverse = glm::inverse(forward);
+        double mat[3][3], inv[3][3];
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) {
+                mat[j][i] = forward[j][i];
+                inv[j][i] = inverse[j][i];
+            }
+        nanovdb::Map map;
+        map.set(mat, inv, nanovdb::Vec3d(m.origin.x, m.origin.y, m.origin.z), 1.0);
+        handles.push_back(builder.getHandle(map, g.record.name));
+        g.record.active_voxels = handles.back().grid<float>()->activeVoxelCount();
+    }
+    write_via_temp(path, [&](const std::filesystem::path& temp) { nanovdb::io::writeGrids(temp.string(), handles); });
+}
+#endif
+
+}  // namespace
+
+VdbExport write_vdb(const Scene& scene, std::span<const HostBricks> bricks, const std::filesystem::path& path,
+                    VdbFormat format) {
+    require_vdb(format);
+    const auto start = std::chrono::steady_clock::now();
+    VdbExport out;
+    out.format = format;
+    out.path = path;
+    std::vector<ObjectGrid> grids = object_grids(scene, bricks);
+#if SDFBRICK_WITH_OPENVDB
+    if (format == VdbFormat::openvdb) write_openvdb(scene, bricks, grids, path);
+#endif
+#if SDFBRICK_WITH_NANOVDB
+    if (format == VdbFormat::nanovdb) write_nanovdb(bricks, grids, path);
+#endif
+    out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    out.file_bytes = std::filesystem::file_size(path);
+    for (ObjectGrid& g : grids) out.grids.push_back(std::move(g.record));
+    return out;
+}
+
+}  // namespace sdfbrick::exchange
