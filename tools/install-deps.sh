@@ -10,6 +10,7 @@ packages=(
   libopenimageio-dev
   libgtest-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  slurm-wlm munge
 )
 
 missing=()
