@@ -116,3 +116,20 @@ if merged != single:
     sys.exit(1)
 print(f"merged shards equal the single-process sweep: {len(merged)} rows, {len(merged[0])} columns compared")
 EOF
+
+# Shards from machines with different vendors merge into one vendor comparison: the same shards
+# relabelled as another machine's device stand in for a second cluster's, then merge and chart.
+/usr/bin/python3 - "$tmp/out/sweep.json" "$tmp/other.json" << 'EOF'
+import json, sys
+sweep = json.load(open(sys.argv[1]))
+for p in sweep["points"]:
+    p["key"] = p["key"].replace("device=" + p["device"], "device=Other GPU")
+    p.update(device="Other GPU", vendor="Other Vendor", driver="0.0", platform="Other platform")
+json.dump(sweep, open(sys.argv[2], "w"))
+EOF
+"$bin" merge "$tmp/out/sweep.json" "$tmp/other.json" --out "$tmp/vendors" > /dev/null
+/usr/bin/python3 tools/sweep_charts.py "$tmp/vendors.csv" --out "$tmp/charts" > /dev/null
+for scene in spheres fractal; do
+    [[ -s $tmp/charts/vendors_$scene.png ]] || { echo "FAIL: no vendor comparison chart for $scene"; exit 1; }
+done
+echo "shards of two vendors merged into one vendor comparison per scene"

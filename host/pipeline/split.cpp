@@ -191,12 +191,22 @@ struct Part {
     throw std::runtime_error("split run: every device failed: " + what);
 }
 
+// A device whose weight is below this fraction of the live devices' gets no share: its fixed costs
+// (upper levels, uploads, its BVH) would exceed what it saves the others.
+constexpr double kMinShare = 0.02;
+
 // Splits iv among the live lanes in proportion to their weights.
 std::vector<std::pair<std::size_t, Interval>> divide(Interval iv, const std::vector<Lane>& lanes,
                                                      const std::vector<double>& weights) {
     std::vector<std::size_t> live;
+    double all = 0.0, best = 0.0;
     for (std::size_t i = 0; i < lanes.size(); ++i)
-        if (lanes[i].alive()) live.push_back(i);
+        if (lanes[i].alive()) {
+            all += weights[i];
+            best = std::max(best, weights[i]);
+        }
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+        if (lanes[i].alive() && (weights[i] >= kMinShare * all || weights[i] == best)) live.push_back(i);
     double total = 0.0;
     for (std::size_t i : live) total += weights[i];
     std::vector<std::pair<std::size_t, Interval>> out;
@@ -292,7 +302,12 @@ std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStor
 StageSplit start_report(const std::vector<Lane>& lanes, std::string stage) {
     StageSplit r;
     r.stage = std::move(stage);
-    for (const Lane& l : lanes) r.devices.push_back({l.device->info().index, l.device->info().name});
+    for (const Lane& l : lanes) {
+        DeviceShare d;
+        d.device = l.device->info().index;
+        d.name = l.device->info().name;
+        r.devices.push_back(d);
+    }
     return r;
 }
 

@@ -103,7 +103,8 @@ TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
 }
 
 // The first run splits by the static estimate and stores each device's measured rate; a store that
-// says device 1 is three times faster moves three quarters of the work there.
+// says device 1 is three times faster moves three quarters of the work there, one that says it is a
+// hundred times faster all of it.
 TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     const fs::path dir = test::temp_dir("split_balance");
     const std::string env = two_devices(dir);
@@ -130,6 +131,19 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     }
     EXPECT_EQ(second["trace_digest"], first["trace_digest"]);
     EXPECT_GT(second["construct"]["speedup_estimated"].get<double>(), 0.0);
+    // Under 2% of the total weight: no share at all.
+    r = 1.0;
+    for (auto& [key, rates] : store.items()) {
+        for (const char* stage : {"construct", "trace"}) rates[stage] = r;
+        r = 100.0;
+    }
+    test::write_text(dir / "rates.json", store.dump());
+    const nlohmann::json third = run_json(dir, env, args);
+    for (const char* stage : {"construct", "trace"}) {
+        EXPECT_EQ(third[stage]["devices"][0]["done"].get<double>(), 0.0) << stage;
+        EXPECT_EQ(third[stage]["devices"][1]["done"].get<double>(), 1.0) << stage;
+    }
+    EXPECT_EQ(third["trace_digest"], first["trace_digest"]);
 }
 
 // A device that fails at its n-th launch has its share redone by the other: the same bits, and the
