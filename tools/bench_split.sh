@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Split-mode timings (docs/multi-device.md, "Measured"): for each scene and device configuration,
-# `build` and `render` with --devices split and one warm-up pass (programs compiled, shares from the
-# warm-up's measured rates), then a table of the construction and trace wall times, the shares and
+# `build` and `render` with --devices split and one warm-up pass, each run twice (the first run
+# stores the devices' measured rates, the second is balanced by them and reported), then a table of the construction and trace wall times, the shares and
 # the speed-up against the first configuration. A configuration of one device runs the same code
 # path on that device alone.
 #
@@ -27,8 +27,11 @@ for config in "$@"; do
         for verb in build render; do
             extra=""
             [[ $verb == render ]] && extra="--width $width --height $height --out $out/$scene-$n.png"
-            eval "env $envs SDFBRICK_RATES=$out/rates-$n.json" "$bin" --device "$devices" --devices split $verb \
-                "scenes/$scene.json" --brick-size "$brick" --warmup 1 $extra --json "$out/$verb-$scene-$n.json" > /dev/null
+            for round in seed measured; do  # the first run stores the rates that balance the second
+                eval "env $envs SDFBRICK_RATES=$out/rates-$scene-$n.json" "$bin" --device "$devices" --devices split \
+                    $verb "scenes/$scene.json" --brick-size "$brick" --warmup 1 $extra \
+                    --json "$out/$verb-$scene-$n.json" > /dev/null
+            done
         done
     done
     n=$((n + 1))

@@ -471,9 +471,9 @@ render::SceneBricks upload_scene(const std::vector<HostBuild>& merged, const con
 
 // The split construction: every geometry's parts, merged on the host.
 std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec,
-                                       StageSplit& report) {
+                                       const RateStore* basis, StageSplit& report) {
     report = start_report(lanes, "construct");
-    const std::vector<double> weights = stage_weights(lanes, spec.rates, report);
+    const std::vector<double> weights = stage_weights(lanes, basis, report);
     auto parts = run_shared<std::vector<HostBuild>>(lanes, weights, report, [&](Lane& lane, Interval iv) {
         if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
         return build_part(lane, scene, spec.build[lane.slot], iv);
@@ -493,12 +493,15 @@ std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& sc
 
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
 render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, const std::vector<HostBuild>& merged,
-                                const SplitSpec& spec, StageSplit& report) {
+                                const SplitSpec& spec, const RateStore* basis, StageSplit& report) {
     report = start_report(lanes, "trace");
-    const std::vector<double> weights = stage_weights(lanes, spec.rates, report);
+    const std::vector<double> weights = stage_weights(lanes, basis, report);
     const render::TraceSettings& first = spec.trace.front();
     int unit = 1;
-    for (const render::TraceSettings& t : spec.trace) unit = std::lcm(unit, t.group_y);
+    for (const render::TraceSettings& t : spec.trace) {
+        if (t.group_y < 1) throw SettingError("group_y", fmt::format("group_y must be positive, got {}", t.group_y));
+        unit = std::lcm(unit, t.group_y);
+    }
     std::vector<std::uint64_t> prefix;  // rows at each band boundary
     for (int r = 0; r < first.height; r += unit) prefix.push_back(static_cast<std::uint64_t>(r));
     prefix.push_back(static_cast<std::uint64_t>(first.height));
@@ -549,12 +552,12 @@ render::SceneBricks home_bricks(std::vector<Lane>& lanes, const std::vector<Host
     throw_all_failed(lanes);
 }
 
-SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec) {
+SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis) {
     SplitRun out;
-    const std::vector<HostBuild> merged = split_construct(lanes, scene, spec, out.construct);
+    const std::vector<HostBuild> merged = split_construct(lanes, scene, spec, basis, out.construct);
     if (spec.work == Work::trace) {
         for (Lane& l : lanes) l.traced.reset();
-        out.trace = split_trace(lanes, scene, merged, spec, out.tracing);
+        out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing);
         out.trace_digest = buffer_digest(out.trace->buffer);
     }
     out.bricks = home_bricks(lanes, merged, spec);
@@ -584,8 +587,11 @@ SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene,
         lanes[i].device = devices[i];
         lanes[i].slot = i;
     }
+    // Every pass splits by the rates stored before the run: a warm-up pass's rates include program
+    // builds. The last pass's rates are stored.
+    const std::optional<RateStore> basis = spec.rates ? std::optional<RateStore>(*spec.rates) : std::nullopt;
     SplitRun out;
-    for (int pass = 0; pass <= spec.warmup; ++pass) out = split_pass(lanes, scene, spec);
+    for (int pass = 0; pass <= spec.warmup; ++pass) out = split_pass(lanes, scene, spec, basis ? &*basis : nullptr);
     if (spec.rates) spec.rates->save();
     return out;
 }

@@ -125,9 +125,6 @@ BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, co
 TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
                                 const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows) {
     validate_image_size(settings.width, settings.height);
-    if (rows.end == 0) rows.end = settings.height;
-    if (rows.first < 0 || rows.first > rows.end || rows.end > settings.height || rows.first % settings.group_y != 0)
-        throw std::invalid_argument("BrickTracer::render: rows out of the image or not on a work-group row");
     if (camera.width != static_cast<sdf_u32>(settings.width) || camera.height != static_cast<sdf_u32>(settings.height))
         throw std::invalid_argument("BrickTracer::render: the camera's size differs from the settings'");
     const std::size_t gx = static_cast<std::size_t>(settings.group_x), gy = static_cast<std::size_t>(settings.group_y);
@@ -135,6 +132,9 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         throw SettingError("group_x", fmt::format("group_x x group_y = {} x {} is not a work-group size {} accepts "
                                                   "(1..{} work-items)", gx, gy, device_.info().name,
                                                   device_.info().max_work_group_size));
+    if (rows.end == 0) rows.end = settings.height;
+    if (rows.first < 0 || rows.first > rows.end || rows.end > settings.height || rows.first % settings.group_y != 0)
+        throw std::invalid_argument("BrickTracer::render: rows out of the image or not on a work-group row");
     Kernels& k = kernels(bricks.settings, settings);
     const std::size_t pixels = static_cast<std::size_t>(settings.width) * settings.height;
     ocl::Buffer<SdfCamera> cam(device_, std::span<const SdfCamera>(&camera, 1), CL_MEM_READ_ONLY);
