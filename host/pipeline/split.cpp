@@ -177,7 +177,10 @@ struct Part {
 [[noreturn]] void throw_all_failed(const std::vector<Lane>& lanes) {
     bool all_input = true;
     std::string what;
+    std::exception_ptr first;
     for (const Lane& l : lanes) {
+        if (!l.error) continue;
+        if (!first) first = l.error;
         try {
             std::rethrow_exception(l.error);
         } catch (const InputError&) {
@@ -187,7 +190,7 @@ struct Part {
         what += fmt::format("{}device {} ({}): {}", what.empty() ? "" : "; ", l.device->info().index,
                             l.device->info().name, l.failure);
     }
-    if (all_input) std::rethrow_exception(lanes.front().error);
+    if (all_input && first) std::rethrow_exception(first);
     throw std::runtime_error("split run: every device failed: " + what);
 }
 
