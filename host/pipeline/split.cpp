@@ -278,7 +278,7 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
     for (std::size_t i = 0; i < lanes.size(); ++i) {
         DeviceShare& d = report.devices[i];
         d.failure = lanes[i].failure;
-        d.idle_ms = d.busy_ms > 0.0 ? report.wall_ms - last_end[i] : 0.0;
+        d.idle_ms = report.wall_ms - last_end[i];  // the whole stage for a device without a part
     }
     std::sort(done.begin(), done.end(), [](const Part<Result>& a, const Part<Result>& b) { return a.span.f0 < b.span.f0; });
     return done;
@@ -329,7 +329,7 @@ void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lan
 struct HostBuild {
     construct::GeometryBuild meta;  // without its device buffers
     int split_level = -1;           // -1: the build ended before a split level
-    std::uint64_t weight = 0, total_weight = 0;
+    std::uint64_t total_weight = 0;  // of the split level's bricks
     std::vector<SdfBrick> leaves;
     std::vector<cl_uint> lists;
     std::vector<std::uint8_t> pool;
@@ -356,19 +356,17 @@ std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construc
     measure::Scheduler scheduler(*lane.device);
     for (const Geometry& g : scene.geometries) {
         int split_level = -1;
-        std::uint64_t weight = 0, total = 0;
+        std::uint64_t total = 0;
         const construct::Subtrees subtrees{kSplitBricks, [&](const std::vector<SdfBrick>& records) {
             std::vector<std::uint64_t> prefix{0};
             for (const SdfBrick& r : records) prefix.push_back(prefix.back() + std::max<std::uint64_t>(1, r.edit_count));
             const auto range = covered(prefix, iv);
             split_level = records.empty() ? -1 : static_cast<int>(records.front().level);
-            weight = prefix[range.second] - prefix[range.first];
             total = prefix.back();
             return range;
         }};
         HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees));
         h.split_level = split_level;
-        h.weight = weight;
         h.total_weight = total;
         out.push_back(std::move(h));
     }
@@ -377,10 +375,11 @@ std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construc
 
 // Sums level l of the parts' tables at and below the split level (above it every part built the same).
 construct::LevelReport merged_level(const std::vector<const HostBuild*>& parts, std::size_t l) {
-    construct::LevelReport r = parts.front()->meta.level_reports[l];
-    if (parts.front()->split_level < 0 || static_cast<int>(l) < parts.front()->split_level) return r;
-    r = {};
+    const int split = parts.front()->split_level;
+    construct::LevelReport r;
     for (const HostBuild* p : parts) {
+        if (l >= p->meta.level_reports.size()) continue;
+        if (split < 0 || static_cast<int>(l) < split) return p->meta.level_reports[l];
         if (l >= p->meta.level_reports.size()) continue;
         const construct::LevelReport& q = p->meta.level_reports[l];
         r.level = q.level;
