@@ -12,6 +12,7 @@ packages=(
   libopenvdb-dev libnanovdb-dev libboost-iostreams-dev  # OpenVDB's CMake module asks for Boost.Iostreams
   libgtest-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  slurm-wlm munge
 )
 
 missing=()

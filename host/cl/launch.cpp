@@ -48,7 +48,7 @@ void set_kernel_arg(cl_kernel kernel, cl_uint index, std::size_t size, const voi
 }  // namespace detail
 
 Event enqueue(Device& device, cl_kernel kernel, std::string_view name, std::array<std::size_t, 3> global,
-              std::optional<std::array<std::size_t, 3>> local, cl_uint dims) {
+              std::optional<std::array<std::size_t, 3>> local, cl_uint dims, std::array<std::size_t, 3> offset) {
     if (dims < 1 || dims > 3) {
         throw ClError(CL_INVALID_WORK_DIMENSION, fmt::format("enqueueing kernel {} with {} dimensions on {} "
                                                              "(OpenCL allows 1 to 3)",
@@ -71,7 +71,7 @@ Event enqueue(Device& device, cl_kernel kernel, std::string_view name, std::arra
     if (empty) {
         status = clEnqueueMarkerWithWaitList(device.queue(), 0, nullptr, &event);
     } else {
-        status = clEnqueueNDRangeKernel(device.queue(), kernel, dims, nullptr, global.data(),
+        status = clEnqueueNDRangeKernel(device.queue(), kernel, dims, offset.data(), global.data(),
                                         local ? local->data() : nullptr, 0, nullptr, &event);
     }
     if (status != CL_SUCCESS) {

@@ -54,10 +54,12 @@ void set_args(cl_kernel kernel, const Args&... args) {
 
 // Enqueues kernel over an NDRange of dims (1 to 3) dimensions on the device's queue. local:
 // work-group size, or std::nullopt to let the driver choose. name: what error messages call the
-// launch. A range with a zero dimension launches nothing: a marker stands in for it, so the returned
-// event is still valid (and its times are ~0).
+// launch. offset: the global work offset (get_global_id starts there). A range with a zero dimension
+// launches nothing: a marker stands in for it, so the returned event is still valid (and its times
+// are ~0).
 Event enqueue(Device& device, cl_kernel kernel, std::string_view name, std::array<std::size_t, 3> global,
-              std::optional<std::array<std::size_t, 3>> local, cl_uint dims);
+              std::optional<std::array<std::size_t, 3>> local, cl_uint dims,
+              std::array<std::size_t, 3> offset = {0, 0, 0});
 
 // One-dimensional launch.
 Event enqueue(Device& device, cl_kernel kernel, std::string_view name, std::size_t global,

@@ -14,6 +14,7 @@
 #include "pipeline/report.h"
 #include "pipeline/run.h"
 #include "scene/scene_json.h"
+#include "tune/apply.h"
 
 namespace sdfbrick::cli {
 
@@ -112,8 +113,34 @@ DeviceBuildReport build_on(ocl::Device& device, const Scene& scene, const BuildO
     return d;
 }
 
+// --devices split: one build shared by the devices.
+void run_build_split(const BuildOptions& o, const GlobalOptions& global, const Scene& scene) {
+    SplitDevices d = open_split_devices(global);
+    const TuningChoice tuning = open_tuning(global);
+    pipeline::SplitSpec spec;
+    spec.work = pipeline::Work::construct;
+    for (ocl::Device* device : d.devices) {
+        construct::BuildSettings s = o.flags.resolve();
+        tune::apply_tuning(tuning.get(), device->info(), o.flags.given(), s, nullptr);
+        s.validate(device->info());
+        spec.build.push_back(s);
+    }
+    spec.warmup = o.measure.warmups();
+    spec.rates = &d.rates;
+    const pipeline::SplitRun run = pipeline::run_split(d.devices, scene, spec);
+    nlohmann::json j = pipeline::to_json(run);
+    j["file"] = o.file;
+    j["scene"] = scene.name;
+    if (o.json) write_file_atomic(*o.json, format_json(j));
+    std::fputs((fmt::format("scene {} ({}): construction split over {} devices\n", scene.name, o.file, d.devices.size()) +
+                pipeline::to_text(run) + (o.json ? fmt::format("report: {}\n", *o.json) : ""))
+                   .c_str(),
+               stdout);
+}
+
 void run_build(const BuildOptions& o, const GlobalOptions& global) {
     apply_global_options(global);
+    const pipeline::DeviceMode mode = device_mode(global);
     BuildReport report;
     report.settings = o.flags.resolve();
     const Scene file_scene = load_scene(o.file);
@@ -124,6 +151,7 @@ void run_build(const BuildOptions& o, const GlobalOptions& global) {
     report.geometries = scene.geometries.size();
     report.repeat = o.measure.repeat;
     report.warmup = o.measure.warmups();
+    if (mode == pipeline::DeviceMode::split) return run_build_split(o, global, scene);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     const TuningChoice tuning = open_tuning(global);
     report.tuning_db = tuning.path;

@@ -23,6 +23,7 @@
 #include "pipeline/run.h"
 #include "reference/device_tracer.h"
 #include "scene/scene_json.h"
+#include "tune/apply.h"
 
 namespace sdfbrick::cli {
 
@@ -362,8 +363,43 @@ void write_pictures(const RenderOptions& o, const DeviceRender& first, const std
     report.comparison_images = {ref_path.string(), diff_path.string()};
 }
 
+// --devices split: one build and trace shared by the devices; the picture of the merged image.
+void run_render_split(const RenderOptions& o, const GlobalOptions& global, const Scene& scene,
+                      const std::filesystem::path& out) {
+    if (o.reference || o.compare) throw InputError("--devices split renders bricks: --reference and --compare need --devices replicate");
+    SplitDevices d = open_split_devices(global);
+    const TuningChoice tuning = open_tuning(global);
+    pipeline::SplitSpec spec;
+    spec.work = pipeline::Work::trace;
+    tune::Given given = o.flags.given();
+    given.trace_group = o.trace_group_given;
+    for (ocl::Device* device : d.devices) {
+        construct::BuildSettings s = o.flags.resolve();
+        render::TraceSettings trace = o.trace;
+        tune::apply_tuning(tuning.get(), device->info(), given, s, &trace);
+        s.validate(device->info());
+        spec.build.push_back(s);
+        spec.trace.push_back(trace);
+    }
+    spec.warmup = o.measure.warmups();
+    spec.rates = &d.rates;
+    const pipeline::SplitRun run = pipeline::run_split(d.devices, scene, spec);
+    write_image(picture(o.mode, run.trace->buffer, run.trace->colour, out), out);
+    nlohmann::json j = pipeline::to_json(run);
+    j["file"] = o.file;
+    j["scene"] = scene.name;
+    j["picture"] = out.string();
+    if (o.json) write_file_atomic(*o.json, format_json(j));
+    std::fputs((fmt::format("scene {} ({}): render split over {} devices\n", scene.name, o.file, d.devices.size()) +
+                pipeline::to_text(run) + fmt::format("picture: {}\n", out.string()) +
+                (o.json ? fmt::format("report: {}\n", *o.json) : ""))
+                   .c_str(),
+               stdout);
+}
+
 void run_render(RenderOptions o, const GlobalOptions& global) {
     apply_global_options(global);
+    const pipeline::DeviceMode mode = device_mode(global);
     const construct::BuildSettings settings = o.flags.resolve();
     if (std::find(std::begin(kModes), std::end(kModes), o.mode) == std::end(kModes))
         throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", o.mode));
@@ -382,10 +418,11 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const Scene file_scene = load_scene(o.file);
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
-    ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
-    const TuningChoice tuning = open_tuning(global);
     const std::filesystem::path out = o.out.value_or(fmt::format("{}-{}.{}", scene.name.empty() ? "scene" : scene.name,
                                                                  o.mode, image_io_has_oiio() ? "png" : "ppm"));
+    if (mode == pipeline::DeviceMode::split) return run_render_split(o, global, scene, out);
+    ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
+    const TuningChoice tuning = open_tuning(global);
 
     RenderReport report = report_setup(o, scene, t, settings);
     std::optional<DeviceRender> first;

@@ -9,7 +9,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cl/device.h"
 #include "core/errors.h"
+#include "pipeline/split.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick::cli {
@@ -20,6 +22,7 @@ struct GlobalOptions {
     std::optional<std::string> kernel_dir;
     std::optional<std::string> tuning_db;  // tuning database file (default: tune::TuningDb::default_path())
     bool no_tuning = false;                // ignore the tuning database
+    std::string devices = "replicate";     // --devices: replicate or split
 };
 
 // Applies options that change library state (kernel directory). Verbs that use a device call it.
@@ -41,6 +44,18 @@ void add_setting_flags(const CLI::App* verb, std::initializer_list<std::pair<con
 // The one-line message for a SettingError raised by the verb that ran (a parsed subcommand of app):
 // "FLAG: message" when that verb has a flag for the setting, else the message as it is.
 std::string setting_error_line(const CLI::App& app, const SettingError& e);
+
+// --devices as the library's mode; throws InputError naming the flag for another value.
+pipeline::DeviceMode device_mode(const GlobalOptions& global);
+
+// The devices of a split run: --device's selection (a device named twice is refused with InputError)
+// and the rate store ($SDFBRICK_RATES, else the default path).
+struct SplitDevices {
+    ocl::DeviceSet set;
+    std::vector<ocl::Device*> devices;
+    pipeline::RateStore rates;
+};
+SplitDevices open_split_devices(const GlobalOptions& global);
 
 void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_scene_commands(CLI::App& app, const GlobalOptions& global);

@@ -20,6 +20,10 @@ int main(int argc, char** argv) {
     app.add_option("-d,--device", global.device,
                    "OpenCL device(s): an index, gpu, cpu, accelerator, all, or part of a device or platform "
                    "name; comma-separated for several (default: $SDFBRICK_DEVICE, else the first GPU, else device 0)");
+    app.add_option("--devices", global.devices,
+                   "with several devices: replicate (each runs the whole job; results compared) or split (they "
+                   "share one job: construction by subtrees, the trace by row bands; build and render)")
+        ->capture_default_str();
     app.add_option("--kernel-dir", global.kernel_dir,
                    "load kernel sources from this directory instead of the copies built into the binary "
                    "(also $SDFBRICK_KERNEL_DIR)");

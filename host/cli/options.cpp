@@ -1,6 +1,8 @@
 // Options every verb shares, and the table of which flag sets each setting (commands.h).
 #include <map>
 
+#include <fmt/format.h>
+
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
 
@@ -45,6 +47,31 @@ TuningChoice open_tuning(const GlobalOptions& global) {
     c.path = global.tuning_db ? std::optional<std::filesystem::path>(*global.tuning_db) : tune::TuningDb::default_path();
     if (c.path) c.db = tune::TuningDb::load(*c.path);
     return c;
+}
+
+pipeline::DeviceMode device_mode(const GlobalOptions& global) {
+    const auto mode = pipeline::device_mode_from_string(global.devices);
+    if (!mode) throw InputError(fmt::format("--devices must be replicate or split, got \"{}\"", global.devices));
+    return *mode;
+}
+
+SplitDevices open_split_devices(const GlobalOptions& global) {
+    const std::vector<ocl::DeviceInfo> all = ocl::list_devices();
+    std::vector<std::size_t> seen;
+    std::string_view spec = global.device;
+    while (!spec.empty()) {
+        const std::size_t comma = spec.find(',');
+        for (std::size_t i : ocl::select_devices(spec.substr(0, comma), all)) {
+            if (std::find(seen.begin(), seen.end(), i) != seen.end())
+                throw InputError(fmt::format("--device: device {} ({}) is named twice; a split run uses each device once",
+                                             i, all[i].name));
+            seen.push_back(i);
+        }
+        spec = comma == std::string_view::npos ? std::string_view{} : spec.substr(comma + 1);
+    }
+    SplitDevices s{ocl::DeviceSet::open(global.device), {}, pipeline::RateStore(pipeline::RateStore::default_path())};
+    for (ocl::Device& d : s.set) s.devices.push_back(&d);
+    return s;
 }
 
 }  // namespace sdfbrick::cli

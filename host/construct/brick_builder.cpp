@@ -6,6 +6,7 @@
 #include <cmath>
 #include <bit>
 #include <numeric>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -224,8 +225,9 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
 class BrickBuilder::Job {
 public:
     Job(BrickBuilder& b, const Geometry& g, const BuildSettings& s, const BuildPlan& plan, measure::Scheduler& scheduler,
-        GeometryBuild& out)
-        : b_(b), d_(b.device_), g_(g), s_(s), plan_(plan), scheduler_(scheduler), out_(out), edits_host_(to_device(g)),
+        GeometryBuild& out, const Subtrees* subtrees)
+        : b_(b), d_(b.device_), g_(g), s_(s), plan_(plan), scheduler_(scheduler), out_(out), subtrees_(subtrees),
+          edits_host_(to_device(g)),
           edits_(d_, edits_host_, CL_MEM_READ_ONLY), origin_(plan.domain.origin) {}
 
     // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
@@ -253,9 +255,13 @@ public:
     // next level's parents; the leaves of every level are then merged (assemble_leaves).
     bool run_levels() {
         for (int level = 0; level < plan_.domain.levels; ++level) {
-            const std::uint64_t children = count_and_scan(level);
+            std::uint64_t children = count_and_scan(level);
             subdivide(level, children);
             cull(level, children);
+            if (subtrees_ && (children >= subtrees_->min_bricks || level + 1 == plan_.domain.levels)) {
+                children = keep_subtrees(children);
+                subtrees_ = nullptr;
+            }
             scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, counts_.bytes() + offsets_.bytes() + words_.bytes() +
                                                                          bits_.bytes());
             kept_.push_back(children);
@@ -293,6 +299,7 @@ private:
     std::uint64_t check_and_split(int level);
     void check_errors(std::vector<double>& leaf_errors) const;
     const ocl::Buffer<SdfBrick>& leaves() const { return merged_leaves_ ? *merged_leaves_ : *level_bricks_.back(); }
+    std::uint64_t keep_subtrees(std::uint64_t children);
     cl_uint level_log2b(int level) const { return level == 0 ? 0u : plan_.log2b; }
     float cell(int level) const { return static_cast<float>(plan_.domain.cell_size(level)); }
     std::size_t chunk_bytes() const { return static_cast<std::size_t>(s_.chunk) * sizeof(SdfEdit); }
@@ -311,6 +318,7 @@ private:
     const BuildPlan& plan_;
     measure::Scheduler& scheduler_;
     GeometryBuild& out_;
+    const Subtrees* subtrees_;  // until applied
     std::vector<SdfEdit> edits_host_;
     ocl::Buffer<SdfEdit> edits_;
     glm::vec3 origin_;
@@ -504,6 +512,17 @@ void BrickBuilder::Job::check_errors(std::vector<double>& leaf_errors) const {
     }
 }
 
+// Keeps the range of this level's bricks that subtrees_ picks; their lists stay where they are.
+std::uint64_t BrickBuilder::Job::keep_subtrees(std::uint64_t children) {
+    const std::vector<SdfBrick> records = parents_->read();
+    const auto [first, end] = subtrees_->pick(records);
+    if (first > end || end > children)
+        throw std::logic_error(fmt::format("subtrees: range [{}, {}) of {} bricks", first, end, children));
+    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(
+        d_, std::span<const SdfBrick>(records).subspan(first, end - first));
+    return end - first;
+}
+
 // The pool (every leaf's samples) and the leaves' boxes.
 void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const BrickLayout layout = s_.layout();
@@ -590,9 +609,12 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["scratch"] = scratch_bytes_;
 }
 
-GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, measure::Scheduler& scheduler) {
+GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, measure::Scheduler& scheduler,
+                                  const Subtrees* subtrees) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate(device_.info());
+    if (subtrees != nullptr && s.adaptive())  // a split's top levels run on every device: their leaves would repeat
+        throw SettingError("tolerance", "adaptive leaves (a tolerance) cannot be split across devices yet");
     if (g.edits.size() > SDF_MAX_EDITS)
         throw InputError(fmt::format("geometry \"{}\" has {} edits; at most {} are supported", g.name, g.edits.size(),
                                      SDF_MAX_EDITS));
@@ -615,7 +637,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
     out.branching = s.branching;
     out.band = plan.band;
     out.clamp_c = plan.clamp_c;
-    Job job(*this, g, s, plan, scheduler, out);
+    Job job(*this, g, s, plan, scheduler, out, subtrees);
     job.start();
     const bool complete = job.run_levels();
     out.coarsest_leaf_level = plan.coarsest_leaf;

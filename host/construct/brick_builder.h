@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -104,6 +105,16 @@ struct GeometryBuild {
     std::unique_ptr<ocl::Buffer<SdfBounds>> aabbs;
 };
 
+// A share of a split build: the descendants of a contiguous range of one level's bricks. The split
+// level is the first with at least min_bricks bricks (or the leaf level); pick(its records) gives the
+// range [first, end) to keep, and the build goes on from those bricks alone. Bricks stay in order
+// inside each parent, so the leaves of consecutive ranges, concatenated in order, are the whole
+// build's leaves (docs/multi-device.md).
+struct Subtrees {
+    std::uint64_t min_bricks = 1;
+    std::function<std::pair<std::uint64_t, std::uint64_t>(const std::vector<SdfBrick>&)> pick;
+};
+
 class BrickBuilder {
 public:
     explicit BrickBuilder(ocl::Device& device);
@@ -113,7 +124,9 @@ public:
     // Builds one geometry (already at the scene's time). An empty geometry (no add edit) gives an
     // empty, valid result. Throws InputError for settings or sizes the device cannot hold.
     // Every launch is recorded in scheduler (the run's launch recorder); build() waits for its own.
-    GeometryBuild build(const Geometry& g, const BuildSettings& settings, measure::Scheduler& scheduler);
+    // With subtrees, only the descendants of the range it picks are built.
+    GeometryBuild build(const Geometry& g, const BuildSettings& settings, measure::Scheduler& scheduler,
+                        const Subtrees* subtrees = nullptr);
 
 private:
     struct Programs;

@@ -40,7 +40,8 @@ nlohmann::json to_json(const Launch& l) {
 }
 
 void Scheduler::launch(Stage stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
-                       std::optional<std::array<std::size_t, 3>> local, cl_uint dims) {
+                       std::optional<std::array<std::size_t, 3>> local, cl_uint dims,
+                       std::array<std::size_t, 3> offset) {
     Launch l;
     l.stage = stage;
     l.level = level;
@@ -54,7 +55,7 @@ void Scheduler::launch(Stage stage, int level, cl_kernel kernel, std::array<std:
                                      "CL_KERNEL_WORK_GROUP_SIZE): choose a smaller work-group for this kernel",
                                      l.group_size(), l.kernel, device_->info().name, l.attributes.work_group_size_limit));
     const auto start = std::chrono::steady_clock::now();
-    events_.push_back(ocl::enqueue(*device_, kernel, l.kernel, global, local, dims));
+    events_.push_back(ocl::enqueue(*device_, kernel, l.kernel, global, local, dims, offset));
     l.enqueue_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     launches_.push_back(std::move(l));
 }

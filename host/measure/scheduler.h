@@ -52,10 +52,12 @@ public:
 
     // Enqueues kernel (arguments already set) over dims dimensions and records the launch. local:
     // the work-group size, or empty to let the driver choose. A range with a zero dimension launches
-    // nothing (see ocl::enqueue) but is still recorded. Throws InputError when the work-group is larger
-    // than the kernel allows on the device (CL_KERNEL_WORK_GROUP_SIZE).
+    // nothing (see ocl::enqueue) but is still recorded. offset: the global work offset. Throws
+    // InputError when the work-group is larger than the kernel allows on the device
+    // (CL_KERNEL_WORK_GROUP_SIZE).
     void launch(Stage stage, int level, cl_kernel kernel, std::array<std::size_t, 3> global,
-                std::optional<std::array<std::size_t, 3>> local, cl_uint dims);
+                std::optional<std::array<std::size_t, 3>> local, cl_uint dims,
+                std::array<std::size_t, 3> offset = {0, 0, 0});
     void launch(Stage stage, int level, cl_kernel kernel, std::size_t global,
                 std::optional<std::size_t> local = std::nullopt);
 

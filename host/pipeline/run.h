@@ -44,6 +44,9 @@ class Runner {
 public:
     explicit Runner(ocl::Device& device);
     ocl::Device& device() { return builder_.device(); }
+    construct::BrickBuilder& builder() { return builder_; }
+    bvh::BvhBuilder& bvh() { return bvh_; }
+    render::BrickTracer& tracer() { return tracer_; }
 
     // Throws InputError for settings the device refuses, std::invalid_argument for warmup < 0 or
     // repeat < 1.

@@ -42,8 +42,14 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, const Scene& sce
 
 SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
                                const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
-    ocl::Device& device = bricks.device();
     SceneBricks out = build_scene_bricks(bricks, scene, settings, scheduler);
+    prepare_tracing(bvh, scene, out, scheduler);
+    return out;
+}
+
+void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& out, measure::Scheduler& scheduler) {
+    ocl::Device& device = scheduler.device();
+    const construct::BuildSettings& settings = out.settings;
     out.bvh = bvh.build(scene, out.builds, scheduler);
 
     const construct::BrickLayout layout = settings.layout();
@@ -76,7 +82,6 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder&
     double scale = 0.0;
     for (const Object& o : scene.objects) scale = scale == 0.0 ? o.transform.scale : std::min(scale, o.transform.scale);
     out.voxel_world = settings.voxel() * (scale > 0.0 ? scale : 1.0);
-    return out;
 }
 
 SdfShading make_shading(const Scene& scene, const SceneBricks& bricks, const TraceSettings& settings) {
@@ -120,7 +125,7 @@ BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, co
 }
 
 TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                                const TraceSettings& settings, measure::Scheduler& scheduler) {
+                                const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows) {
     validate_image_size(settings.width, settings.height);
     if (camera.width != static_cast<sdf_u32>(settings.width) || camera.height != static_cast<sdf_u32>(settings.height))
         throw std::invalid_argument("BrickTracer::render: the camera's size differs from the settings'");
@@ -129,17 +134,22 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         throw SettingError("group_x", fmt::format("group_x x group_y = {} x {} is not a work-group size {} accepts "
                                                   "(1..{} work-items)", gx, gy, device_.info().name,
                                                   device_.info().max_work_group_size));
+    if (rows.end == 0) rows.end = settings.height;
+    if (rows.first < 0 || rows.first > rows.end || rows.end > settings.height || rows.first % settings.group_y != 0)
+        throw std::invalid_argument("BrickTracer::render: rows out of the image or not on a work-group row");
     Kernels& k = kernels(bricks.settings, settings);
     const std::size_t pixels = static_cast<std::size_t>(settings.width) * settings.height;
     ocl::Buffer<SdfCamera> cam(device_, std::span<const SdfCamera>(&camera, 1), CL_MEM_READ_ONLY);
     ocl::Buffer<cl_float4> hit(device_, pixels);
     ocl::Buffer<cl_uint2> aux(device_, pixels);
-    const std::array<std::size_t, 3> global{(settings.width + gx - 1) / gx * gx, (settings.height + gy - 1) / gy * gy, 1};
+    const auto band = static_cast<std::size_t>(rows.end - rows.first);
+    const std::array<std::size_t, 3> global{(settings.width + gx - 1) / gx * gx, (band + gy - 1) / gy * gy, 1};
+    const std::array<std::size_t, 3> offset{0, static_cast<std::size_t>(rows.first), 0};
     const std::array<std::size_t, 3> local{gx, gy, 1};
     const std::size_t first_launch = scheduler.size();
     ocl::set_args(k.trace.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
                   bricks.pool(), bricks.shifts(), hit, aux);
-    scheduler.launch(measure::Stage::trace, -1, k.trace.get(), global, local, 2);
+    scheduler.launch(measure::Stage::trace, -1, k.trace.get(), global, local, 2, offset);
     std::optional<ocl::Buffer<cl_float4>> colour;
     if (settings.shade) {
         const SdfShading shading = make_shading(scene, bricks, settings);
@@ -147,19 +157,21 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         colour.emplace(device_, pixels);
         ocl::set_args(k.shade.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
                       *bricks.bvh.nodes, bricks.pool(), bricks.shifts(), sh, hit, *colour);
-        scheduler.launch(measure::Stage::shade, -1, k.shade.get(), global, local, 2);
+        scheduler.launch(measure::Stage::shade, -1, k.shade.get(), global, local, 2, offset);
     }
     TraceResult out;
     scheduler.resolve();
     out.trace_ms = scheduler.stage_ms(measure::Stage::trace, -1, first_launch);
     out.shade_ms = scheduler.stage_ms(measure::Stage::shade, -1, first_launch);
     out.buffer = RenderBuffer(settings.width, settings.height);
-    hit.read_into(out.buffer.hit);
-    aux.read_into(out.buffer.aux);
+    const std::size_t first = static_cast<std::size_t>(rows.first) * settings.width, count = band * settings.width;
+    hit.read_into(std::span(out.buffer.hit).subspan(first, count), first);
+    aux.read_into(std::span(out.buffer.aux).subspan(first, count), first);
     if (colour) {
-        const std::vector<cl_float4> c = colour->read();
+        std::vector<cl_float4> c(pixels);
+        colour->read_into(std::span(c).subspan(first, count), first);
         out.colour = Image(settings.width, settings.height, 3);
-        for (std::size_t i = 0; i < pixels; ++i)
+        for (std::size_t i = first; i < first + count; ++i)
             for (int ch = 0; ch < 3; ++ch) out.colour.pixels[3 * i + ch] = c[i].s[ch];
     }
     return out;

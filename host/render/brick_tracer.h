@@ -55,6 +55,8 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, const Scene& sce
 // tracer reads.
 SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder& bvh, const Scene& scene,
                                const construct::BuildSettings& settings, measure::Scheduler& scheduler);
+// The BVH and the arrays the tracer reads, for constructed bricks on bvh's device.
+void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& bricks, measure::Scheduler& scheduler);
 
 struct TraceSettings {
     int width = 1280;
@@ -66,6 +68,11 @@ struct TraceSettings {
     int group_y = 8;
     int shadow_rays = 4;
     int ao_rays = 8;
+};
+
+// A band of image rows [first, end); end 0 means every row.
+struct Rows {
+    int first = 0, end = 0;
 };
 
 struct TraceResult {
@@ -83,9 +90,11 @@ public:
     explicit BrickTracer(ocl::Device& device);
     ~BrickTracer();
     // Traces bricks (built on this tracer's device) with camera; readback of the pixel buffers included.
-    // Every launch is recorded in scheduler (the run's launch recorder).
+    // Every launch is recorded in scheduler (the run's launch recorder). With rows, only those rows are
+    // traced and filled (first a multiple of settings.group_y); every pixel's value is the same as in a
+    // whole-image trace.
     TraceResult render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                       const TraceSettings& settings, measure::Scheduler& scheduler);
+                       const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows = {});
 
 private:
     struct Kernels;

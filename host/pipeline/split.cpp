@@ -1,0 +1,601 @@
+#include "pipeline/split.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <exception>
+#include <memory>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/files.h"
+#include "core/hash.h"
+#include "scene/to_device.h"
+
+namespace sdfbrick::pipeline {
+
+std::string_view to_string(DeviceMode m) { return m == DeviceMode::split ? "split" : "replicate"; }
+
+std::optional<DeviceMode> device_mode_from_string(std::string_view s) {
+    if (s == "replicate") return DeviceMode::replicate;
+    if (s == "split") return DeviceMode::split;
+    return std::nullopt;
+}
+
+// ---- the rate store ----
+
+namespace {
+
+std::string device_key(const ocl::DeviceInfo& d) {
+    return fmt::format("{}: {} | {} | {} CU", d.index, d.name, d.driver_version, d.compute_units);
+}
+
+}  // namespace
+
+std::optional<std::filesystem::path> RateStore::default_path() {
+    if (const char* env = std::getenv(kEnv); env != nullptr && *env != '\0') {
+        if (std::string_view(env) == "off") return std::nullopt;
+        return std::filesystem::path(env);
+    }
+    if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && *xdg != '\0')
+        return std::filesystem::path(xdg) / "sdfbrick" / "rates.json";
+    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
+        return std::filesystem::path(home) / ".config" / "sdfbrick" / "rates.json";
+    return std::nullopt;
+}
+
+RateStore::RateStore(std::optional<std::filesystem::path> path) : path_(std::move(path)) {
+    if (!path_ || !std::filesystem::exists(*path_)) return;
+    data_ = nlohmann::json::parse(read_file(*path_), nullptr, false);
+    if (!data_.is_object())
+        throw InputError(fmt::format("{}: not a device rate store (a JSON object of devices)", path_->string()));
+}
+
+std::optional<double> RateStore::rate(const ocl::DeviceInfo& device, std::string_view stage) const {
+    const auto d = data_.find(device_key(device));
+    if (d == data_.end() || !d->is_object()) return std::nullopt;
+    const auto r = d->find(std::string(stage));
+    if (r == d->end() || !r->is_number() || !(r->get<double>() > 0.0)) return std::nullopt;
+    return r->get<double>();
+}
+
+void RateStore::set(const ocl::DeviceInfo& device, std::string_view stage, double rate) {
+    data_[device_key(device)][std::string(stage)] = rate;
+}
+
+void RateStore::save() const {
+    if (!path_) return;
+    if (path_->has_parent_path()) std::filesystem::create_directories(path_->parent_path());
+    write_file_atomic(*path_, data_.dump(2) + "\n");
+}
+
+// ---- reports ----
+
+double StageSplit::fastest_single_ms() const {
+    double best = 0.0;
+    for (const DeviceShare& d : devices) best = std::max(best, d.rate);
+    return best > 0.0 ? work / best : 0.0;
+}
+
+double StageSplit::speedup() const { return wall_ms > 0.0 ? fastest_single_ms() / wall_ms : 0.0; }
+
+nlohmann::json to_json(const StageSplit& s) {
+    nlohmann::json devices = nlohmann::json::array();
+    for (const DeviceShare& d : s.devices)
+        devices.push_back({{"device", d.device}, {"name", d.name}, {"planned", d.planned}, {"done", d.done},
+                           {"busy_ms", d.busy_ms}, {"idle_ms", d.idle_ms}, {"rate", d.rate},
+                           {"failure", d.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.failure)}});
+    return {{"stage", s.stage}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
+            {"fastest_single_ms_estimated", s.fastest_single_ms()}, {"speedup_estimated", s.speedup()},
+            {"devices", devices}};
+}
+
+std::string to_text(const StageSplit& s) {
+    std::string text = fmt::format("{} split ({}): {:.1f} ms; fastest device alone ~{:.1f} ms (estimated from its "
+                                   "rate): speed-up {:.2f}x\n",
+                                   s.stage, s.basis, s.wall_ms, s.fastest_single_ms(), s.speedup());
+    for (const DeviceShare& d : s.devices) {
+        text += fmt::format("  device {} [{}]: planned {:.1f}%, done {:.1f}%, busy {:.1f} ms, idle at end {:.1f} ms",
+                            d.device, d.name, 100.0 * d.planned, 100.0 * d.done, d.busy_ms, d.idle_ms);
+        text += d.failure.empty() ? "\n" : fmt::format("; FAILED: {}\n", d.failure);
+    }
+    return text;
+}
+
+nlohmann::json to_json(const SplitRun& r) {
+    nlohmann::json j{{"bricks", r.leaf_count}, {"brick_digest", r.brick_digest}, {"list_digest", r.list_digest},
+                     {"construct", to_json(r.construct)}};
+    if (r.trace) {
+        j["trace_digest"] = r.trace_digest;
+        j["trace"] = to_json(r.tracing);
+    }
+    return j;
+}
+
+std::string to_text(const SplitRun& r) {
+    std::string text = fmt::format("bricks {}  digest {}  edit lists {}\n", r.leaf_count, r.brick_digest, r.list_digest);
+    text += to_text(r.construct);
+    if (r.trace) text += fmt::format("image digest {}\n", r.trace_digest) + to_text(r.tracing);
+    return text;
+}
+
+// ---- the split run ----
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// The split level: the first with at least this many bricks (or the leaf level).
+constexpr std::uint64_t kSplitBricks = 256;
+
+// A part of a stage's work, as a fraction of it: [f0, f1).
+struct Interval {
+    double f0 = 0.0, f1 = 1.0;
+    double width() const { return f1 - f0; }
+};
+
+// The index range of the weights' prefix sums that [f0, f1) covers: boundary(f) is the first index
+// whose prefix reaches f * total, so neighbouring intervals share their boundary exactly.
+std::pair<std::uint64_t, std::uint64_t> covered(const std::vector<std::uint64_t>& prefix, Interval iv) {
+    const auto at = [&](double f) {
+        const double target = f * static_cast<double>(prefix.back());
+        return static_cast<std::uint64_t>(
+            std::lower_bound(prefix.begin(), prefix.end(), target,
+                             [](std::uint64_t p, double t) { return static_cast<double>(p) < t; }) -
+            prefix.begin());
+    };
+    return {at(iv.f0), at(iv.f1)};
+}
+
+// One device in the run: its builders (made on first use, so that a failing program build is its
+// failure) and, for tracing, its copy of the merged bricks.
+struct Lane {
+    ocl::Device* device = nullptr;
+    std::size_t slot = 0;  // index into the spec's per-device settings
+    std::unique_ptr<Runner> tools;
+    std::optional<render::SceneBricks> traced;
+    std::string failure;
+    std::exception_ptr error;
+
+    bool alive() const { return failure.empty(); }
+};
+
+// A part's result with the fraction it covers.
+template <class Result>
+struct Part {
+    Interval span;
+    Result result;
+};
+
+[[noreturn]] void throw_all_failed(const std::vector<Lane>& lanes) {
+    bool all_input = true;
+    std::string what;
+    std::exception_ptr first;
+    for (const Lane& l : lanes) {
+        if (!l.error) continue;
+        if (!first) first = l.error;
+        try {
+            std::rethrow_exception(l.error);
+        } catch (const InputError&) {
+        } catch (...) {
+            all_input = false;
+        }
+        what += fmt::format("{}device {} ({}): {}", what.empty() ? "" : "; ", l.device->info().index,
+                            l.device->info().name, l.failure);
+    }
+    if (all_input && first) std::rethrow_exception(first);
+    throw std::runtime_error("split run: every device failed: " + what);
+}
+
+// A device whose weight is below this fraction of the live devices' gets no share: its fixed costs
+// (upper levels, uploads, its BVH) would exceed what it saves the others.
+constexpr double kMinShare = 0.02;
+
+// Splits iv among the live lanes in proportion to their weights.
+std::vector<std::pair<std::size_t, Interval>> divide(Interval iv, const std::vector<Lane>& lanes,
+                                                     const std::vector<double>& weights) {
+    std::vector<std::size_t> live;
+    double all = 0.0, best = 0.0;
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+        if (lanes[i].alive()) {
+            all += weights[i];
+            best = std::max(best, weights[i]);
+        }
+    for (std::size_t i = 0; i < lanes.size(); ++i)
+        if (lanes[i].alive() && (weights[i] >= kMinShare * all || weights[i] == best)) live.push_back(i);
+    double total = 0.0;
+    for (std::size_t i : live) total += weights[i];
+    std::vector<std::pair<std::size_t, Interval>> out;
+    double sum = 0.0, at = iv.f0;
+    for (std::size_t k = 0; k < live.size(); ++k) {
+        sum += weights[live[k]];
+        const double end = k + 1 == live.size() ? iv.f1 : iv.f0 + iv.width() * (sum / total);
+        out.push_back({live[k], {at, end}});
+        at = end;
+    }
+    return out;
+}
+
+// Runs the whole stage [0, 1) over the lanes, one thread each, in proportion to weights: fn(lane,
+// interval) does one part. A lane whose part throws leaves the run; what it had not done is divided
+// among the lanes left, until everything is done. Returns the parts in order of their fractions.
+template <class Result, class Fn>
+std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector<double>& weights, StageSplit& report,
+                                     Fn&& fn) {
+    const auto start = Clock::now();
+    std::vector<Part<Result>> done;
+    std::vector<Interval> pending{{0.0, 1.0}};
+    std::vector<double> last_end(lanes.size(), 0.0);
+    bool first_round = true;
+    while (!pending.empty()) {
+        if (std::none_of(lanes.begin(), lanes.end(), [](const Lane& l) { return l.alive(); })) throw_all_failed(lanes);
+        std::vector<std::vector<Interval>> todo(lanes.size()), lost(lanes.size());
+        for (const Interval& iv : pending)
+            for (const auto& [lane, part] : divide(iv, lanes, weights)) {
+                todo[lane].push_back(part);
+                if (first_round) report.devices[lane].planned += part.width();
+            }
+        first_round = false;
+        pending.clear();
+        std::vector<std::vector<Part<Result>>> got(lanes.size());
+        std::vector<std::thread> threads;
+        for (std::size_t i = 0; i < lanes.size(); ++i) {
+            if (todo[i].empty()) continue;
+            threads.emplace_back([&, i] {
+                for (const Interval& iv : todo[i]) {
+                    if (!lanes[i].alive()) {
+                        lost[i].push_back(iv);
+                        continue;
+                    }
+                    const auto t0 = Clock::now();
+                    try {
+                        got[i].push_back({iv, fn(lanes[i], iv)});
+                        report.devices[i].done += iv.width();
+                    } catch (const std::exception& e) {
+                        lanes[i].failure = e.what();
+                        lanes[i].error = std::current_exception();
+                        lost[i].push_back(iv);
+                    }
+                    report.devices[i].busy_ms += ms_since(t0);
+                    last_end[i] = ms_since(start);
+                }
+            });
+        }
+        for (std::thread& t : threads) t.join();
+        for (std::size_t i = 0; i < lanes.size(); ++i) {
+            for (Part<Result>& p : got[i]) done.push_back(std::move(p));
+            pending.insert(pending.end(), lost[i].begin(), lost[i].end());
+        }
+    }
+    report.wall_ms = ms_since(start);
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+        DeviceShare& d = report.devices[i];
+        d.failure = lanes[i].failure;
+        d.idle_ms = report.wall_ms - last_end[i];  // the whole stage for a device without a part
+    }
+    std::sort(done.begin(), done.end(), [](const Part<Result>& a, const Part<Result>& b) { return a.span.f0 < b.span.f0; });
+    return done;
+}
+
+// The stage's weights per lane: measured rates when the store has one for every device, else
+// compute units x clock.
+std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStore* rates, StageSplit& report) {
+    std::vector<double> w;
+    for (const Lane& l : lanes) {
+        const std::optional<double> r = rates ? rates->rate(l.device->info(), report.stage) : std::nullopt;
+        if (!r) break;
+        w.push_back(*r);
+    }
+    report.basis = "measured rates";
+    if (w.size() == lanes.size()) return w;
+    report.basis = "static estimate (compute units x clock)";
+    w.clear();
+    for (const Lane& l : lanes)
+        w.push_back(std::max(1.0, double(l.device->info().compute_units) * std::max(1u, l.device->info().max_clock_mhz)));
+    return w;
+}
+
+StageSplit start_report(const std::vector<Lane>& lanes, std::string stage) {
+    StageSplit r;
+    r.stage = std::move(stage);
+    for (const Lane& l : lanes) {
+        DeviceShare d;
+        d.device = l.device->info().index;
+        d.name = l.device->info().name;
+        r.devices.push_back(d);
+    }
+    return r;
+}
+
+void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lanes) {
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+        DeviceShare& d = r.devices[i];
+        if (d.done <= 0.0 || d.busy_ms <= 0.0) continue;
+        d.rate = d.done * r.work / d.busy_ms;
+        if (rates) rates->set(lanes[i].device->info(), r.stage, d.rate);
+    }
+}
+
+// ---- construction ----
+
+// One geometry's part (or merged whole) on the host.
+struct HostBuild {
+    construct::GeometryBuild meta;  // without its device buffers
+    int split_level = -1;           // -1: the build ended before a split level
+    std::uint64_t total_weight = 0;  // of the split level's bricks
+    std::vector<SdfBrick> leaves;
+    std::vector<cl_uint> lists;
+    std::vector<std::uint8_t> pool;
+    std::vector<SdfBounds> aabbs;
+};
+
+HostBuild to_host(construct::GeometryBuild b) {
+    HostBuild h;
+    h.leaves = b.leaves->read();
+    h.lists = b.leaf_edit_indices->read();
+    h.pool = b.pool->read();
+    h.aabbs = b.aabbs->read();
+    b.leaves.reset();
+    b.leaf_edit_indices.reset();
+    b.pool.reset();
+    b.aabbs.reset();
+    h.meta = std::move(b);
+    return h;
+}
+
+// Builds the part iv of every geometry on lane's device; the leaves, lists, pool and boxes come back.
+std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
+    std::vector<HostBuild> out;
+    measure::Scheduler scheduler(*lane.device);
+    for (const Geometry& g : scene.geometries) {
+        int split_level = -1;
+        std::uint64_t total = 0;
+        const construct::Subtrees subtrees{kSplitBricks, [&](const std::vector<SdfBrick>& records) {
+            std::vector<std::uint64_t> prefix{0};
+            for (const SdfBrick& r : records) prefix.push_back(prefix.back() + std::max<std::uint64_t>(1, r.edit_count));
+            const auto range = covered(prefix, iv);
+            split_level = records.empty() ? -1 : static_cast<int>(records.front().level);
+            total = prefix.back();
+            return range;
+        }};
+        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees));
+        h.split_level = split_level;
+        h.total_weight = total;
+        out.push_back(std::move(h));
+    }
+    return out;
+}
+
+// Sums level l of the parts' tables at and below the split level (above it every part built the same).
+construct::LevelReport merged_level(const std::vector<const HostBuild*>& parts, std::size_t l) {
+    const int split = parts.front()->split_level;
+    construct::LevelReport r;
+    for (const HostBuild* p : parts) {
+        if (l >= p->meta.level_reports.size()) continue;
+        if (split < 0 || static_cast<int>(l) < split) return p->meta.level_reports[l];
+        if (l >= p->meta.level_reports.size()) continue;
+        const construct::LevelReport& q = p->meta.level_reports[l];
+        r.level = q.level;
+        r.cell_size = q.cell_size;
+        r.bricks += q.bricks;
+        r.edit_entries += q.edit_entries;
+        r.max_edits = std::max(r.max_edits, q.max_edits);
+        r.count_ms += q.count_ms;
+        r.scan_ms += q.scan_ms;
+        r.subdivide_ms += q.subdivide_ms;
+        r.cull_ms += q.cull_ms;
+    }
+    return r;
+}
+
+// The parts of one geometry, in order, as one build: leaves concatenated, each part's edit-list
+// offsets moved past the lists before it.
+HostBuild merge(const std::vector<const HostBuild*>& parts) {
+    HostBuild m;
+    const construct::GeometryBuild& first = parts.front()->meta;
+    m.meta.name = first.name;
+    m.meta.origin = first.origin;
+    m.meta.leaf_size = first.leaf_size;
+    m.meta.levels = first.levels;
+    m.meta.clamp_c = first.clamp_c;
+    m.meta.band = first.band;
+    m.meta.dependency_entries = first.dependency_entries;
+    m.split_level = parts.front()->split_level;
+    std::size_t levels = 0;
+    for (const HostBuild* p : parts) levels = std::max(levels, p->meta.level_reports.size());
+    for (std::size_t l = 0; l < levels; ++l) m.meta.level_reports.push_back(merged_level(parts, l));
+    double entries = 0.0;
+    for (const HostBuild* p : parts) {
+        const auto base = static_cast<cl_uint>(m.lists.size());
+        for (SdfBrick b : p->leaves) {
+            b.edit_offset += base;
+            m.leaves.push_back(b);
+        }
+        m.lists.insert(m.lists.end(), p->lists.begin(), p->lists.end());
+        m.pool.insert(m.pool.end(), p->pool.begin(), p->pool.end());
+        m.aabbs.insert(m.aabbs.end(), p->aabbs.begin(), p->aabbs.end());
+        m.meta.leaf_count += p->meta.leaf_count;
+        entries += p->meta.edits_per_leaf_mean * static_cast<double>(p->meta.leaf_count);
+        m.meta.edits_per_leaf_max = std::max(m.meta.edits_per_leaf_max, p->meta.edits_per_leaf_max);
+        m.meta.edit_evaluations += p->meta.edit_evaluations;
+        m.meta.device_ms += p->meta.device_ms;
+        m.meta.host_ms = std::max(m.meta.host_ms, p->meta.host_ms);
+        for (const auto& [what, bytes] : p->meta.memory) m.meta.memory[what] += bytes;
+    }
+    if (m.meta.leaf_count > 0) m.meta.edits_per_leaf_mean = entries / static_cast<double>(m.meta.leaf_count);
+    return m;
+}
+
+// A merged build on a device (its figures copied, its arrays uploaded).
+construct::GeometryBuild upload(const HostBuild& h, ocl::Device& d) {
+    construct::GeometryBuild b;
+    const construct::GeometryBuild& m = h.meta;
+    b.name = m.name;
+    b.origin = m.origin;
+    b.leaf_size = m.leaf_size;
+    b.levels = m.levels;
+    b.clamp_c = m.clamp_c;
+    b.band = m.band;
+    b.level_reports = m.level_reports;
+    b.leaf_count = m.leaf_count;
+    b.edits_per_leaf_mean = m.edits_per_leaf_mean;
+    b.edits_per_leaf_max = m.edits_per_leaf_max;
+    b.edit_evaluations = m.edit_evaluations;
+    b.dependency_entries = m.dependency_entries;
+    b.memory = m.memory;
+    b.device_ms = m.device_ms;
+    b.host_ms = m.host_ms;
+    b.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(d, std::span<const SdfBrick>(h.leaves));
+    b.leaf_edit_indices = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(h.lists));
+    b.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(d, std::span<const std::uint8_t>(h.pool));
+    b.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(d, std::span<const SdfBounds>(h.aabbs));
+    return b;
+}
+
+render::SceneBricks upload_scene(const std::vector<HostBuild>& merged, const construct::BuildSettings& s,
+                                 ocl::Device& d) {
+    render::SceneBricks out;
+    out.settings = s;
+    for (const HostBuild& h : merged) {
+        out.builds.push_back(upload(h, d));
+        out.bricks += h.meta.leaf_count;
+        out.build_ms += h.meta.device_ms;
+    }
+    return out;
+}
+
+// The split construction: every geometry's parts, merged on the host.
+std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec,
+                                       const RateStore* basis, StageSplit& report) {
+    report = start_report(lanes, "construct");
+    const std::vector<double> weights = stage_weights(lanes, basis, report);
+    auto parts = run_shared<std::vector<HostBuild>>(lanes, weights, report, [&](Lane& lane, Interval iv) {
+        if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
+        return build_part(lane, scene, spec.build[lane.slot], iv);
+    });
+    std::vector<HostBuild> merged;
+    for (std::size_t g = 0; g < scene.geometries.size(); ++g) {
+        std::vector<const HostBuild*> of_g;
+        for (const auto& p : parts) of_g.push_back(&p.result[g]);
+        merged.push_back(merge(of_g));
+        report.work += static_cast<double>(parts.front().result[g].total_weight);
+    }
+    finish_report(report, spec.rates, lanes);
+    return merged;
+}
+
+// ---- tracing ----
+
+// The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
+render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, const std::vector<HostBuild>& merged,
+                                const SplitSpec& spec, const RateStore* basis, StageSplit& report) {
+    report = start_report(lanes, "trace");
+    const std::vector<double> weights = stage_weights(lanes, basis, report);
+    const render::TraceSettings& first = spec.trace.front();
+    int unit = 1;
+    for (const render::TraceSettings& t : spec.trace) {
+        if (t.group_y < 1) throw SettingError("group_y", fmt::format("group_y must be positive, got {}", t.group_y));
+        unit = std::lcm(unit, t.group_y);
+    }
+    std::vector<std::uint64_t> prefix;  // rows at each band boundary
+    for (int r = 0; r < first.height; r += unit) prefix.push_back(static_cast<std::uint64_t>(r));
+    prefix.push_back(static_cast<std::uint64_t>(first.height));
+    const SdfCamera camera = make_camera(scene.camera, first.width, first.height);
+    auto parts = run_shared<render::TraceResult>(lanes, weights, report, [&](Lane& lane, Interval iv) {
+        if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
+        measure::Scheduler scheduler(*lane.device);
+        if (!lane.traced) {
+            render::SceneBricks b = upload_scene(merged, spec.build[lane.slot], *lane.device);
+            render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
+            lane.traced = std::move(b);
+        }
+        const auto [a, b] = covered(prefix, iv);
+        const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
+        return lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot], scheduler, rows);
+    });
+    render::TraceResult out;
+    out.buffer = RenderBuffer(first.width, first.height);
+    if (first.shade) out.colour = Image(first.width, first.height, 3);
+    for (const auto& p : parts) {
+        const auto [a, b] = covered(prefix, p.span);
+        const std::size_t from = prefix[a] * first.width, to = prefix[b] * first.width;
+        std::copy(p.result.buffer.hit.begin() + from, p.result.buffer.hit.begin() + to, out.buffer.hit.begin() + from);
+        std::copy(p.result.buffer.aux.begin() + from, p.result.buffer.aux.begin() + to, out.buffer.aux.begin() + from);
+        if (first.shade)
+            std::copy(p.result.colour.pixels.begin() + 3 * from, p.result.colour.pixels.begin() + 3 * to,
+                      out.colour.pixels.begin() + 3 * from);
+        out.trace_ms += p.result.trace_ms;
+        out.shade_ms += p.result.shade_ms;
+    }
+    report.work = static_cast<double>(first.width) * first.height;
+    finish_report(report, spec.rates, lanes);
+    return out;
+}
+
+// The merged bricks on the first live device that takes them (for digests and what follows).
+render::SceneBricks home_bricks(std::vector<Lane>& lanes, const std::vector<HostBuild>& merged, const SplitSpec& spec) {
+    for (Lane& l : lanes) {
+        if (!l.alive()) continue;
+        if (l.traced) return std::move(*l.traced);
+        try {
+            return upload_scene(merged, spec.build[l.slot], *l.device);
+        } catch (const std::exception& e) {
+            l.failure = e.what();
+            l.error = std::current_exception();
+        }
+    }
+    throw_all_failed(lanes);
+}
+
+SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis) {
+    SplitRun out;
+    const std::vector<HostBuild> merged = split_construct(lanes, scene, spec, basis, out.construct);
+    if (spec.work == Work::trace) {
+        for (Lane& l : lanes) l.traced.reset();
+        out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing);
+        out.trace_digest = buffer_digest(out.trace->buffer);
+    }
+    out.bricks = home_bricks(lanes, merged, spec);
+    out.leaf_count = out.bricks.bricks;
+    if (spec.brick_digests) {
+        Fnv1a64 bricks, lists;
+        for (const construct::GeometryBuild& b : out.bricks.builds) {
+            bricks.add_part(construct::output_digest(b, out.bricks.settings));
+            lists.add_part(construct::list_digest(b));
+        }
+        out.brick_digest = bricks.hex();
+        out.list_digest = lists.hex();
+    }
+    return out;
+}
+
+}  // namespace
+
+SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene, const SplitSpec& spec) {
+    if (devices.empty()) throw std::invalid_argument("run_split: no device");
+    if (spec.build.size() != devices.size() || (spec.work == Work::trace && spec.trace.size() != devices.size()))
+        throw std::invalid_argument("run_split: one build (and trace) setting per device");
+    if (spec.warmup < 0) throw std::invalid_argument("run_split: warmup >= 0");
+    if (spec.work == Work::bvh) throw std::invalid_argument("run_split: construct or trace");
+    std::vector<Lane> lanes(devices.size());
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        lanes[i].device = devices[i];
+        lanes[i].slot = i;
+    }
+    // Every pass splits by the rates stored before the run: a warm-up pass's rates include program
+    // builds. The last pass's rates are stored.
+    const std::optional<RateStore> basis = spec.rates ? std::optional<RateStore>(*spec.rates) : std::nullopt;
+    SplitRun out;
+    for (int pass = 0; pass <= spec.warmup; ++pass) out = split_pass(lanes, scene, spec, basis ? &*basis : nullptr);
+    if (spec.rates) spec.rates->save();
+    return out;
+}
+
+}  // namespace sdfbrick::pipeline

@@ -1,0 +1,109 @@
+// Split execution (docs/multi-device.md): one job's construction and trace shared among several
+// devices, one host thread per device, merged bit-identically. Construction: each device builds the
+// descendants of a range of every geometry's split-level bricks (construct::Subtrees), the leaves
+// are concatenated in range order. Trace: each device traces a band of image rows against its own
+// copy of the merged bricks. Shares come from each device's measured rate for the stage (a
+// RateStore), or from a static estimate when a device has none. A device whose share throws is out
+// of the run; its share is split among the devices left; when none is left the run throws.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cl/device.h"
+#include "construct/brick_builder.h"
+#include "pipeline/run.h"
+#include "render/brick_tracer.h"
+
+namespace sdfbrick::pipeline {
+
+// How a job uses several devices: each runs the whole job (replicate, then the results are compared),
+// or they share one job (split).
+enum class DeviceMode { replicate, split };
+std::string_view to_string(DeviceMode m);
+std::optional<DeviceMode> device_mode_from_string(std::string_view s);
+
+// Each device's measured rate per stage, kept in one JSON file keyed by device (name, driver,
+// compute units), the global index first: {"<key>": {"construct": rate, "trace": rate}}. Construction's rate is edit-list
+// entries of the split level per millisecond, the trace's pixels per millisecond.
+class RateStore {
+public:
+    static constexpr const char* kEnv = "SDFBRICK_RATES";
+    // $SDFBRICK_RATES ("off": none), else $XDG_CONFIG_HOME/sdfbrick/rates.json, else
+    // ~/.config/sdfbrick/rates.json.
+    static std::optional<std::filesystem::path> default_path();
+    // A missing file is an empty store; without a path nothing is read or saved. Throws InputError
+    // naming the file when it is not a store.
+    explicit RateStore(std::optional<std::filesystem::path> path);
+
+    std::optional<double> rate(const ocl::DeviceInfo& device, std::string_view stage) const;
+    void set(const ocl::DeviceInfo& device, std::string_view stage, double rate);
+    void save() const;
+    const std::optional<std::filesystem::path>& path() const { return path_; }
+
+private:
+    std::optional<std::filesystem::path> path_;
+    nlohmann::json data_ = nlohmann::json::object();
+};
+
+// One device's part of one split stage.
+struct DeviceShare {
+    std::size_t device = 0;  // global index
+    std::string name;
+    double planned = 0.0;   // fraction of the stage's work planned for it
+    double done = 0.0;      // fraction it did (planned, less what failed, plus what it redid)
+    double busy_ms = 0.0;   // wall time of its shares
+    double idle_ms = 0.0;   // from the end of its last share to the end of the stage
+    double rate = 0.0;      // work units per ms it reached (0 when it did nothing)
+    std::string failure;    // why it left the run ("" when it did not)
+};
+
+// One split stage: "construct" (units: edit-list entries of the split level) or "trace" (pixels).
+struct StageSplit {
+    std::string stage;
+    std::string basis;  // "measured rates" or "static estimate (compute units x clock)"
+    double work = 0.0;  // units in all
+    double wall_ms = 0.0;
+    std::vector<DeviceShare> devices;
+    // The stage's time on the fastest device alone, estimated as work / its measured rate, and the
+    // speed-up of the split over it (0 when no device finished a share).
+    double fastest_single_ms() const;
+    double speedup() const;
+};
+nlohmann::json to_json(const StageSplit& s);
+std::string to_text(const StageSplit& s);
+
+struct SplitSpec {
+    Work work = Work::trace;
+    // Per device, in the order of the devices given (tuned parameters may differ; the layout, leaf
+    // size and image must not).
+    std::vector<construct::BuildSettings> build;
+    std::vector<render::TraceSettings> trace;
+    int warmup = 0;
+    bool brick_digests = true;
+    RateStore* rates = nullptr;  // shares from it; the measured rates are written back
+};
+
+struct SplitRun {
+    render::SceneBricks bricks;  // merged, on the first device still in the run
+    std::optional<render::TraceResult> trace;
+    std::string brick_digest, list_digest, trace_digest;
+    std::uint64_t leaf_count = 0;
+    StageSplit construct, tracing;  // tracing.stage empty when not traced
+};
+
+// Digests, leaf count and the stages' splits.
+nlohmann::json to_json(const SplitRun& r);
+std::string to_text(const SplitRun& r);
+
+// Runs one job split over devices (at least one; one host thread each). Throws when every device
+// failed: the first failure itself when each was an InputError, else one error naming every device's.
+SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene, const SplitSpec& spec);
+
+}  // namespace sdfbrick::pipeline

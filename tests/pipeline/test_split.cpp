@@ -1,0 +1,196 @@
+// Split runs over two PoCL devices (POCL_DEVICES="pthread pthread", one core each: POCL_CPU_MAX_CU_NUM,
+// or POCL_MAX_PTHREAD_COUNT before PoCL 4): PoCL reads its
+// device list when the platform starts, so these tests run the command line in a child process with
+// that environment. Split results equal one device's bit for bit, with and without device faults.
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/files.h"
+#include "test_support.h"
+
+namespace sdfbrick {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int status = -1;
+    std::string out, err;
+};
+
+// Two one-core PoCL devices, a rate store in dir, and `extra` environment (which may turn the store off).
+std::string two_devices(const fs::path& dir, const std::string& extra = "") {
+    return fmt::format("POCL_DEVICES='pthread pthread' POCL_CPU_MAX_CU_NUM=1 POCL_MAX_PTHREAD_COUNT=1 SDFBRICK_RATES={} {}",
+                       (dir / "rates.json").string(), extra);
+}
+
+CliRun sdfbrick(const fs::path& dir, const std::string& env, const std::string& args) {
+    const std::string cmd = env + " " SDFBRICK_CLI_PATH " " + args + " >" + (dir / "out").string() + " 2>" +
+                            (dir / "err").string();
+    const int raw = std::system(cmd.c_str());
+    CliRun r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = read_file(dir / "out");
+    r.err = read_file(dir / "err");
+    return r;
+}
+
+nlohmann::json run_json(const fs::path& dir, const std::string& env, const std::string& args) {
+    const fs::path report = dir / "r.json";
+    fs::remove(report);
+    const CliRun r = sdfbrick(dir, env, args + " --json " + report.string());
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return r.status == 0 ? nlohmann::json::parse(read_file(report)) : nlohmann::json::object();
+}
+
+std::string scene_path(const std::string& name) { return std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json"; }
+
+// Two geometries (so that every geometry's parts are merged), three objects.
+fs::path two_geometry_scene(const fs::path& dir) {
+    const fs::path p = dir / "two.json";
+    test::write_text(p, R"({"version": 1, "name": "two",
+  "camera": {"fov_deg": 45.0, "orbit": {"distance": 6.0, "pitch_deg": 15.0, "target": [0.0, 0.0, 0.0], "yaw_deg": 20.0}},
+  "geometries": [
+    {"name": "blob", "edits": [{"primitive": "sphere", "radius": 1.0},
+                              {"primitive": "sphere", "radius": 0.6, "position": [0.8, 0.5, 0.0], "blend": 0.3}]},
+    {"name": "ball", "edits": [{"primitive": "sphere", "radius": 0.7, "position": [0.0, 0.2, 0.1]}]}],
+  "objects": [{"name": "a", "geometry": "blob", "position": [-1.2, 0.0, 0.0]},
+              {"name": "b", "geometry": "ball", "position": [1.3, 0.0, 0.0]},
+              {"name": "c", "geometry": "blob", "position": [0.0, 1.5, -1.0], "scale": 0.5}]})");
+    return p;
+}
+
+constexpr const char* kRender = " --brick-size 0.125 --width 96 --height 64 --mode shaded --shadow-rays 1 --ao-rays 1";
+
+TEST(PipelineSplit, BuildEqualsOneDeviceBitForBit) {
+    const fs::path dir = test::temp_dir("split_build");
+    const std::string env = two_devices(dir);
+    const std::string two = two_geometry_scene(dir).string();
+    for (const std::string& args : {"build " + scene_path("drops") + " --brick-size 0.25",
+                                    "build " + two + " --brick-size 0.125", "build " + two + " --brick-size 0.125 --no-cull"}) {
+        {
+            const nlohmann::json one = run_json(dir, env, "--device 0 " + args);
+            const nlohmann::json split = run_json(dir, env, "--device cpu --devices split " + args);
+            ASSERT_EQ(split["construct"]["devices"].size(), 2u);
+            EXPECT_EQ(split["brick_digest"], one["digest"]) << args;
+            EXPECT_EQ(split["list_digest"], one["devices"][0]["list_digest"]) << args;
+            EXPECT_EQ(split["bricks"], one["bricks"]) << args;
+            for (const auto& d : split["construct"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << args;
+        }
+    }
+}
+
+TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
+    const fs::path dir = test::temp_dir("split_render");
+    const std::string env = two_devices(dir);
+    for (const std::string& scene : {scene_path("spheres"), two_geometry_scene(dir).string()}) {
+        const std::string args = "render " + scene + kRender;
+        const nlohmann::json one = run_json(dir, env, "--device 0 " + args + " --out " + (dir / "one.ppm").string());
+        const nlohmann::json split =
+            run_json(dir, env, "--device cpu --devices split " + args + " --out " + (dir / "split.ppm").string());
+        EXPECT_EQ(split["trace_digest"], one["digest"]) << scene;
+        EXPECT_EQ(split["bricks"], one["bricks"]) << scene;
+        EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << scene;
+        for (const auto& d : split["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << scene;
+    }
+}
+
+// The first run splits by the static estimate and stores each device's measured rate; a store that
+// says device 1 is three times faster moves three quarters of the work there, one that says it is a
+// hundred times faster all of it.
+TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
+    const fs::path dir = test::temp_dir("split_balance");
+    const std::string env = two_devices(dir);
+    const std::string args = "--device cpu --devices split render " + scene_path("spheres") + kRender;
+    const nlohmann::json first = run_json(dir, env, args);
+    EXPECT_EQ(first["construct"]["basis"], "static estimate (compute units x clock)");
+    EXPECT_NEAR(first["construct"]["devices"][0]["planned"].get<double>(), 0.5, 1e-9);
+    nlohmann::json store = nlohmann::json::parse(read_file(dir / "rates.json"));
+    ASSERT_EQ(store.size(), 2u);
+    double r = 1.0;
+    for (auto& [key, rates] : store.items()) {  // keys begin with the device index: 0 first
+        for (const char* stage : {"construct", "trace"}) {
+            ASSERT_GT(rates[stage].get<double>(), 0.0) << key;
+            rates[stage] = r;
+        }
+        r = 3.0;
+    }
+    test::write_text(dir / "rates.json", store.dump());
+    const nlohmann::json second = run_json(dir, env, args);
+    for (const char* stage : {"construct", "trace"}) {
+        EXPECT_EQ(second[stage]["basis"], "measured rates");
+        EXPECT_NEAR(second[stage]["devices"][0]["planned"].get<double>(), 0.25, 1e-9) << stage;
+        EXPECT_NEAR(second[stage]["devices"][1]["planned"].get<double>(), 0.75, 1e-9) << stage;
+    }
+    EXPECT_EQ(second["trace_digest"], first["trace_digest"]);
+    EXPECT_GT(second["construct"]["speedup_estimated"].get<double>(), 0.0);
+    // Under 2% of the total weight: no share at all.
+    r = 1.0;
+    for (auto& [key, rates] : store.items()) {
+        for (const char* stage : {"construct", "trace"}) rates[stage] = r;
+        r = 100.0;
+    }
+    test::write_text(dir / "rates.json", store.dump());
+    const nlohmann::json third = run_json(dir, env, args);
+    for (const char* stage : {"construct", "trace"}) {
+        EXPECT_EQ(third[stage]["devices"][0]["done"].get<double>(), 0.0) << stage;
+        EXPECT_EQ(third[stage]["devices"][1]["done"].get<double>(), 1.0) << stage;
+    }
+    EXPECT_EQ(third["trace_digest"], first["trace_digest"]);
+}
+
+// A device that fails at its n-th launch has its share redone by the other: the same bits, and the
+// report names the failure. Without a rate store both devices take half, so launch 44 lands in the
+// BVH and 48 in shading: the trace stage.
+TEST(PipelineSplit, DeviceFaultGivesTheSameBits) {
+    const fs::path dir = test::temp_dir("split_fault");
+    const std::string args = "--device cpu --devices split render " + scene_path("spheres") + kRender;
+    const nlohmann::json clean = run_json(dir, two_devices(dir, "SDFBRICK_RATES=off"), args);
+    for (int device : {0, 1}) {
+        for (int n : {1, 12, 44, 48}) {
+            const std::string fault = fmt::format("SDFBRICK_RATES=off SDFBRICK_FAULT=launch@{}:{}", device, n);
+            const nlohmann::json j = run_json(dir, two_devices(dir, fault), args);
+            EXPECT_EQ(j["trace_digest"], clean["trace_digest"]) << fault;
+            EXPECT_EQ(j["brick_digest"], clean["brick_digest"]) << fault;
+            const std::string stage = n < 40 ? "construct" : "trace";
+            const auto& failure = j[stage]["devices"][device]["failure"];
+            ASSERT_TRUE(failure.is_string()) << fault << " " << j.dump();
+            EXPECT_NE(failure.get<std::string>().find("injected"), std::string::npos) << failure;
+            EXPECT_GT(j[stage]["devices"][1 - device]["done"].get<double>(), 0.99) << fault;
+        }
+    }
+}
+
+TEST(PipelineSplit, FaultOnEveryDeviceIsOneClearError) {
+    const fs::path dir = test::temp_dir("split_fault_all");
+    const CliRun r = sdfbrick(dir, two_devices(dir, "SDFBRICK_FAULT=launch@0:3,launch@1:5"),
+                              "--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " +
+                                  (dir / "p.ppm").string() + " --json " + (dir / "r.json").string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("every device failed"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "p.ppm"));
+    EXPECT_FALSE(fs::exists(dir / "r.json"));
+}
+
+TEST(PipelineSplit, BadInputNamesTheFlag) {
+    const fs::path dir = test::temp_dir("split_bad");
+    const std::string env = two_devices(dir);
+    const std::string build = " build " + scene_path("spheres") + " --brick-size 0.125";
+    const CliRun mode = sdfbrick(dir, env, "--devices halves" + build);
+    EXPECT_EQ(mode.status, 2);
+    EXPECT_NE(mode.err.find("--devices"), std::string::npos) << mode.err;
+    const CliRun twice = sdfbrick(dir, env, "--device 0,cpu --devices split" + build);
+    EXPECT_EQ(twice.status, 2);
+    EXPECT_NE(twice.err.find("--device: device 0"), std::string::npos) << twice.err;
+}
+
+}  // namespace
+}  // namespace sdfbrick
