@@ -9,7 +9,7 @@ namespace sdfbrick::cli {
 
 void BuildFlags::add_to(CLI::App* cmd) {
     construct::BuildSettings& s = settings;
-    cmd->add_option("--brick-size", s.leaf_size, "side of a leaf brick (geometry units)")->capture_default_str();
+    cmd->add_option("--brick-size", s.leaf_size, "side of a leaf brick (geometry units)")->check(finite_number())->capture_default_str();
     cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
     cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();
     cmd->add_option("--samples", s.samples, "samples per brick axis: 8 (one-voxel apron) or 10 (two-voxel apron)")->capture_default_str();

@@ -125,7 +125,7 @@ void add_sweep_commands(CLI::App& app, const GlobalOptions& global) {
                                             "stages, occupancy, memory, accuracy; CSV and JSON, resumable, shardable");
     cmd->add_option("file", o->file, "sweep file (JSON, docs/sweep.md); flags override its keys");
     cmd->add_option("--scenes", o->scenes, "scene files")->delimiter(',');
-    cmd->add_option("--brick-sizes", o->brick_sizes, "leaf brick sizes")->delimiter(',');
+    cmd->add_option("--brick-sizes", o->brick_sizes, "leaf brick sizes")->check(finite_number())->delimiter(',');
     cmd->add_option("--chunks", o->chunks, "edits per __local chunk (16..256)")->delimiter(',');
     cmd->add_option("--groups", o->groups, "evaluation work-group sizes")->delimiter(',');
     cmd->add_option("--trace-groups", o->trace_groups, "trace work-groups, WxH")->delimiter(',');

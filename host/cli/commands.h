@@ -42,6 +42,9 @@ void add_setting_flags(const CLI::App* verb, std::initializer_list<std::pair<con
 // "FLAG: message" when that verb has a flag for the setting, else the message as it is.
 std::string setting_error_line(const CLI::App& app, const SettingError& e);
 
+// A number option's check: refuses nan, inf and values that overflow a double ("1e999").
+const CLI::Validator& finite_number();
+
 void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_scene_commands(CLI::App& app, const GlobalOptions& global);
 void add_eval_command(CLI::App& app, const GlobalOptions& global);

@@ -1,8 +1,11 @@
 // Options every verb shares, and the table of which flag sets each setting (commands.h).
+#include <charconv>
+#include <cmath>
 #include <map>
 
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
+#include "core/quote.h"
 
 namespace sdfbrick::cli {
 
@@ -45,6 +48,20 @@ TuningChoice open_tuning(const GlobalOptions& global) {
     c.path = global.tuning_db ? std::optional<std::filesystem::path>(*global.tuning_db) : tune::TuningDb::default_path();
     if (c.path) c.db = tune::TuningDb::load(*c.path);
     return c;
+}
+
+const CLI::Validator& finite_number() {
+    static const CLI::Validator check(
+        [](const std::string& text) -> std::string {
+            double value = 0.0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (ec == std::errc::result_out_of_range) return "number out of range: " + quoted_input(text);
+            if (ec == std::errc() && end == text.data() + text.size() && !std::isfinite(value))
+                return "must be a finite number, got " + quoted_input(text);
+            return {};  // not a number at all: the option's own conversion says so
+        },
+        "FINITE");
+    return check;
 }
 
 }  // namespace sdfbrick::cli
