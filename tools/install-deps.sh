@@ -9,6 +9,7 @@ packages=(
   libglm-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libopenimageio-dev
   libgtest-dev libbenchmark-dev
+  clang-14 libfuzzer-14-dev
   python3-matplotlib python3-numpy
 )
 

@@ -21,24 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string_view kind_of(fs::file_type type) {
-    switch (type) {
-        case fs::file_type::directory: return "a directory";
-        case fs::file_type::fifo: return "a FIFO";
-        case fs::file_type::character: return "a character device";
-        case fs::file_type::block: return "a block device";
-        case fs::file_type::socket: return "a socket";
-        default: return "not a regular file";
-    }
-}
-
-fs::file_type type_of(mode_t mode) {
-    if (S_ISDIR(mode)) return fs::file_type::directory;
-    if (S_ISFIFO(mode)) return fs::file_type::fifo;
-    if (S_ISCHR(mode)) return fs::file_type::character;
-    if (S_ISBLK(mode)) return fs::file_type::block;
-    if (S_ISSOCK(mode)) return fs::file_type::socket;
-    return S_ISREG(mode) ? fs::file_type::regular : fs::file_type::unknown;
+// What a file that is not a regular file is, for messages.
+std::string_view kind_of(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "a special file";
 }
 
 // Closes a POSIX file descriptor at scope exit.
@@ -58,7 +48,7 @@ std::string read_file(const fs::path& path, std::size_t max_bytes) {
     if (file.fd < 0) throw fail(std::strerror(errno));
     struct stat st{};
     if (::fstat(file.fd, &st) != 0) throw fail(std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) throw fail(fmt::format("{}, not a regular file", kind_of(type_of(st.st_mode))));
+    if (!S_ISREG(st.st_mode)) throw fail(fmt::format("{}, not a regular file", kind_of(st.st_mode)));
     if (static_cast<std::uint64_t>(st.st_size) > max_bytes)
         throw fail(fmt::format("{} bytes; at most {} are read", st.st_size, max_bytes));
     std::string content;
