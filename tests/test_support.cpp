@@ -15,6 +15,16 @@ namespace sdfbrick::test {
 
 namespace {
 
+// The test binary keeps its program cache, PoCL's cache and its tuning database in the build tree
+// even when run directly rather than through CTest (which sets the same values): never in the
+// user's ~/.cache or ~/.config. Set before main, so the sdfbrick runs of the CLI tests inherit them.
+const bool caches_in_build_tree = [] {
+    ::setenv("SDFBRICK_CACHE_DIR", SDFBRICK_TEST_BUILD_DIR "/kernel-cache", 0);
+    ::setenv("POCL_CACHE_DIR", SDFBRICK_TEST_BUILD_DIR "/pocl-cache", 0);
+    ::setenv("SDFBRICK_TUNING_DB", SDFBRICK_TEST_BUILD_DIR "/tuning.json", 0);
+    return true;
+}();
+
 // Makes the test-only kernels loadable by name before any test runs.
 const bool test_kernels_registered = (ocl::add_kernel_sources(test_kernel_sources()), true);
 

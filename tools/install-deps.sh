@@ -11,6 +11,7 @@ packages=(
   libassimp-dev
   libopenvdb-dev libnanovdb-dev libboost-iostreams-dev  # OpenVDB's CMake module asks for Boost.Iostreams
   libgtest-dev libbenchmark-dev
+  clang-14 libfuzzer-14-dev
   python3-matplotlib python3-numpy
   slurm-wlm munge
 )

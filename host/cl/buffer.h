@@ -1,7 +1,8 @@
 // Typed device buffers. Buffer<T> owns a cl_mem of count elements of T on one Device; reads and
 // writes are blocking and go through the device's queue. A zero-element buffer is valid (OpenCL
 // forbids zero-byte allocations, so one element is allocated and size() stays 0). A buffer larger
-// than the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE is refused (CL_INVALID_BUFFER_SIZE) on every device.
+// than the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE is refused (CL_INVALID_BUFFER_SIZE) on every device;
+// on a CPU device, so is one the host has no memory left for (cl/host_memory.h).
 #pragma once
 
 #include <CL/cl.h>
@@ -17,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "cl/device.h"
+#include "cl/host_memory.h"
 #include "core/fault.h"
 #include "cl/handles.h"
 
@@ -43,6 +45,10 @@ public:
         if (status == CL_SUCCESS && fault::should_fail(fault::Point::alloc, info.index)) {
             status = CL_MEM_OBJECT_ALLOCATION_FAILURE;
             injected = ", " + fault::describe(fault::Point::alloc, info.index);
+        }
+        if (status == CL_SUCCESS && info.type == "cpu" && !host_can_map(allocated + kHostMemoryMargin)) {
+            status = CL_MEM_OBJECT_ALLOCATION_FAILURE;  // see cl/host_memory.h: the driver would abort later
+            injected = ", the host cannot map that much more memory";
         }
         if (status == CL_SUCCESS) {
             memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));

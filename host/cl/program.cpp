@@ -1,14 +1,22 @@
 #include "cl/program.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
+#include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <random>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -30,7 +38,10 @@ namespace {
 constexpr std::string_view kSourcePrologue = "#pragma OPENCL FP_CONTRACT OFF\n";
 
 // Part of every key and every cache entry: changing the entry format or the build rules changes it.
-constexpr std::string_view kCacheFormat = "sdfbrick program cache 1";
+constexpr std::string_view kCacheFormat = "sdfbrick program cache 2";
+
+// The file in the cache directory that holds the secret key of the entries' MACs.
+constexpr std::string_view kSecretFile = "secret";
 
 // Options that would make results differ between devices or runs.
 constexpr std::array<std::string_view, 7> kRefusedOptions = {
@@ -38,8 +49,24 @@ constexpr std::array<std::string_view, 7> kRefusedOptions = {
     "-cl-no-signed-zeros",   "-cl-denorms-are-zero", "-cl-single-precision-constant",
 };
 
-std::string checksum(std::string_view log, std::string_view binary) {
-    return Fnv1a64().add_part(log).add_part(binary).hex();
+std::string mac(const CacheSeal& seal, const CacheEntry& entry) {
+    return SipHash24(seal.k0, seal.k1)
+        .add_part(kCacheFormat)
+        .add_part(seal.identity)
+        .add_part(entry.key)
+        .add_part(entry.log)
+        .add_part(entry.binary)
+        .hex();
+}
+
+// The kernel names a built program reports (CL_PROGRAM_KERNEL_NAMES: "a;b;c"), empty if it cannot say.
+std::string kernel_names(cl_program program) {
+    std::size_t size = 0;
+    if (clGetProgramInfo(program, CL_PROGRAM_KERNEL_NAMES, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+    std::string names(size, '\0');
+    if (clGetProgramInfo(program, CL_PROGRAM_KERNEL_NAMES, size, names.data(), nullptr) != CL_SUCCESS) return {};
+    names.resize(std::min(names.find('\0'), names.size()));
+    return names;
 }
 
 void refuse_unsafe_options(std::string_view extra_options) {
@@ -79,6 +106,53 @@ std::string building(const BuildRecord& record) {
     return fmt::format("building {} for {} with options '{}'", record.kernel_file, record.device_name, record.options);
 }
 
+// Runs build() with the process's standard error sent to a temporary file, and returns what was
+// printed there (trailing newlines removed): some compilers (PoCL's) print diagnostics such as
+// "3 errors generated." on standard error, where they would come before the one-line error message.
+// Builds are serialised while standard error is redirected.
+std::string capturing_stderr(const std::function<void()>& build) {
+    static std::mutex mutex;
+    const std::lock_guard lock(mutex);
+    std::fflush(stderr);
+    const std::unique_ptr<FILE, int (*)(FILE*)> capture(std::tmpfile(), &std::fclose);
+    const int saved = capture ? ::dup(STDERR_FILENO) : -1;
+    if (saved < 0 || ::dup2(::fileno(capture.get()), STDERR_FILENO) < 0) {
+        if (saved >= 0) ::close(saved);
+        build();
+        return {};
+    }
+    const auto restore = [&] {
+        std::fflush(stderr);
+        ::dup2(saved, STDERR_FILENO);
+        ::close(saved);
+    };
+    try {
+        build();
+    } catch (...) {
+        restore();
+        throw;
+    }
+    restore();
+    std::string printed;
+    std::rewind(capture.get());
+    for (int c; (c = std::fgetc(capture.get())) != EOF;) printed += static_cast<char>(c);
+    while (!printed.empty() && (printed.back() == '\n' || printed.back() == ' ')) printed.pop_back();
+    return printed;
+}
+
+// One line for a failed build: how many errors the log holds and the first of them.
+std::string build_failure_summary(std::string_view log) {
+    std::size_t errors = 0;
+    std::string first;
+    std::istringstream lines{std::string(log)};
+    for (std::string line; std::getline(lines, line);) {
+        if (line.find("error:") == std::string::npos) continue;
+        if (errors++ == 0) first = line;
+    }
+    if (errors == 0) return "the build failed (see the log below)";
+    return fmt::format("{} error{}, the first: {}", errors, errors == 1 ? "" : "s", first);
+}
+
 ProgramHandle compile_from_source(const Device& device, const std::string& source, BuildRecord& record) {
     const char* text = source.c_str();
     const std::size_t length = source.size();
@@ -90,11 +164,14 @@ ProgramHandle compile_from_source(const Device& device, const std::string& sourc
     if (fault::should_fail(fault::Point::build, device.info().index)) {
         throw ClError(CL_BUILD_PROGRAM_FAILURE, building(record), fault::describe(fault::Point::build, device.info().index));
     }
-    status = clBuildProgram(program.get(), 1, &id, record.options.c_str(), nullptr, nullptr);
+    const std::string printed =
+        capturing_stderr([&] { status = clBuildProgram(program.get(), 1, &id, record.options.c_str(), nullptr, nullptr); });
     record.log = map_log_locations(build_log(program.get(), id), source);
     if (status != CL_SUCCESS) {
+        std::string log = record.log;
+        if (!printed.empty() && log.find(printed) == std::string::npos) log += (log.empty() ? "" : "\n") + printed;
         throw ClError(status, building(record),
-                      record.log.empty() ? "the compiler gave no build log" : "build log:\n" + record.log);
+                      log.empty() ? "the compiler gave no build log" : build_failure_summary(log) + "\nbuild log:\n" + log);
     }
     record.origin = ProgramOrigin::compiled;
     return program;
@@ -110,18 +187,38 @@ std::string read_file(const std::filesystem::path& path) {
 void discard(const std::filesystem::path& file, BuildRecord& record, std::string_view why) {
     std::error_code ignored;
     std::filesystem::remove(file, ignored);
-    record.cache_note = fmt::format("discarded cache entry {}: {}; built from source", file.string(), why);
+    record.cache_note += fmt::format("{}discarded cache entry {}: {}; built from source", record.cache_note.empty() ? "" : "; ",
+                                     file.string(), why);
 }
 
-// The program from the disk cache entry, or an empty handle (entry missing or damaged: then deleted).
-ProgramHandle load_from_disk(const Device& device, const std::filesystem::path& file, BuildRecord& record) {
+// Whether `names` (a program's "a;b;c") is a non-empty list of kernels that `source` declares
+// ("__kernel void a(", attributes allowed between): a binary of another program is refused.
+bool declares_all(std::string_view source, std::string_view names) {
+    static const std::regex declared(R"re(\b(?:__)?kernel\s+(?:__attribute__\s*\(\([^;{]*?\)\)\s*)*void\s+([A-Za-z_]\w*)\s*\()re");
+    std::vector<std::string> known;
+    const std::string text(source);
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), declared); it != std::sregex_iterator(); ++it) {
+        known.push_back((*it)[1].str());
+    }
+    std::istringstream list{std::string(names)};
+    std::size_t count = 0;
+    for (std::string name; std::getline(list, name, ';'); ++count) {
+        if (std::find(known.begin(), known.end(), name) == known.end()) return false;
+    }
+    return count > 0;
+}
+
+// The program from the disk cache entry, or an empty handle (entry missing, damaged, forged, or for
+// another program: then deleted). Nothing reaches the driver unless its MAC verifies.
+ProgramHandle load_from_disk(const Device& device, const std::filesystem::path& file, const CacheSeal& seal,
+                             std::string_view source, BuildRecord& record) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(file, error)) {
         return {};
     }
-    const std::optional<CacheEntry> entry = decode_cache_entry(read_file(file));
+    const std::optional<CacheEntry> entry = decode_cache_entry(read_file(file), seal);
     if (!entry || entry->key != record.key) {
-        discard(file, record, "not a complete entry for this key");
+        discard(file, record, "not an entry made by this user for this program");
         return {};
     }
     const cl_device_id id = device.id();
@@ -142,6 +239,10 @@ ProgramHandle load_from_disk(const Device& device, const std::filesystem::path& 
         discard(file, record, fmt::format("building the binary failed ({})", error_name(status)));
         return {};
     }
+    if (const std::string names = kernel_names(program.get()); !declares_all(source, names)) {
+        discard(file, record, fmt::format("the binary defines kernels '{}', which the source does not declare", names));
+        return {};
+    }
     record.log = entry->log;
     record.origin = ProgramOrigin::disk_cache;
     return program;
@@ -159,19 +260,18 @@ std::string program_binary(cl_program program, const BuildRecord& record) {
 
 // Writes the entry to a temporary file and renames it into place, so that readers never see a
 // partial entry. Failures are noted in the record, not thrown: the program itself is fine.
-void store_on_disk(cl_program program, const std::filesystem::path& file, BuildRecord& record) {
+void store_on_disk(cl_program program, const std::filesystem::path& file, const CacheSeal& seal, BuildRecord& record) {
     static std::atomic<unsigned> counter{0};
     const std::string binary = program_binary(program, record);
     if (binary.empty()) {
         record.cache_note = "the driver returned no program binary; nothing cached";
         return;
     }
-    const std::string bytes = encode_cache_entry({record.key, record.log, binary});
+    const std::string bytes = encode_cache_entry({record.key, record.log, binary}, seal);
     const std::filesystem::path temporary =
         file.string() + fmt::format(".tmp-{}-{}", static_cast<long>(getpid()), counter++);
     std::error_code error;
-    std::filesystem::create_directories(file.parent_path(), error);
-    if (!error) {
+    {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
         out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
         out.close();
@@ -187,6 +287,101 @@ void store_on_disk(cl_program program, const std::filesystem::path& file, BuildR
         std::filesystem::remove(temporary, ignored);
         record.cache_note = fmt::format("could not store the binary in {}: {}", file.string(), error.message());
     }
+}
+
+// Makes `dir` private to this user (mode 0700: created so, repaired if group or others had access)
+// and returns the seal key held in dir/secret (mode 0600, made with random bytes on first use, and
+// made anew after a repair, since others may have read it). std::nullopt, with the reason in `note`,
+// when the directory cannot be used: it is not a directory, or another user owns it.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> open_cache_dir(const std::filesystem::path& dir, std::string& note) {
+    std::error_code ignored;
+    if (!std::filesystem::exists(dir, ignored)) {
+        std::filesystem::create_directories(dir.parent_path(), ignored);
+        ::mkdir(dir.c_str(), 0700);
+    }
+    struct stat st{};
+    if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::geteuid()) {
+        note = fmt::format("cache directory {} is not a directory of this user: disk cache not used", dir.string());
+        return std::nullopt;
+    }
+    const std::filesystem::path secret = dir / kSecretFile;
+    if ((st.st_mode & 077) != 0) {
+        if (::chmod(dir.c_str(), 0700) != 0) {
+            note = fmt::format("cache directory {} is open to other users and cannot be made private: disk cache not used",
+                               dir.string());
+            return std::nullopt;
+        }
+        std::filesystem::remove(secret, ignored);  // others could read it: entries sealed with it are not trusted
+        note = fmt::format("cache directory {} was open to other users (mode {:03o}): made it private (0700) and "
+                           "discarded its entries", dir.string(), st.st_mode & 0777);
+    }
+    std::string text;
+    struct stat sst{};
+    if (::lstat(secret.c_str(), &sst) == 0 && S_ISREG(sst.st_mode) && sst.st_uid == ::geteuid() && (sst.st_mode & 077) == 0) {
+        text = read_file(secret);
+    }
+    std::uint64_t k[2] = {0, 0};
+    const bool valid = text.size() == 33 && text[32] == '\n' &&
+                       std::from_chars(text.data(), text.data() + 16, k[0], 16).ptr == text.data() + 16 &&
+                       std::from_chars(text.data() + 16, text.data() + 32, k[1], 16).ptr == text.data() + 32;
+    if (!valid) {
+        std::random_device random;
+        for (std::uint64_t& word : k) word = (std::uint64_t{random()} << 32) ^ random();
+        const std::filesystem::path temporary = secret.string() + fmt::format(".tmp-{}", static_cast<long>(getpid()));
+        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+        const std::string line = fmt::format("{:016x}{:016x}\n", k[0], k[1]);
+        const bool written = fd >= 0 && ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
+        if (fd >= 0) ::close(fd);
+        std::error_code error;
+        if (written) std::filesystem::rename(temporary, secret, error);
+        if (!written || error) {
+            std::filesystem::remove(temporary, ignored);
+            note = fmt::format("cannot write the cache secret {}: disk cache not used", secret.string());
+            return std::nullopt;
+        }
+    }
+    return std::make_pair(k[0], k[1]);
+}
+
+// What build_program builds: the record's options and key, the source, and the program's identity
+// (everything the key hashes).
+struct ProgramInputs {
+    BuildRecord record;
+    std::string source;
+    std::string identity;
+};
+
+ProgramInputs program_inputs(const Device& device, std::string_view kernel_file, std::string_view extra_options) {
+    refuse_unsafe_options(extra_options);
+    const DeviceInfo& info = device.info();
+    ProgramInputs in;
+    BuildRecord& record = in.record;
+    record.kernel_file = kernel_file;
+    record.device_name = info.name;
+    record.correctly_rounded_divide_sqrt = info.correctly_rounded_divide_sqrt;
+    record.options = "-cl-std=CL1.2";
+    if (record.correctly_rounded_divide_sqrt) {
+        record.options += " -cl-fp32-correctly-rounded-divide-sqrt";
+    }
+    if (info.has_extension("cl_nv_device_attribute_query")) {
+        // ptxas --verbose: the build log then holds each kernel's register count (measure/kernel_attributes.h).
+        record.options += " -cl-nv-verbose";
+    }
+    if (!extra_options.empty()) {
+        record.options += ' ';
+        record.options += extra_options;
+    }
+    in.source = std::string(kSourcePrologue) + load_kernel_source(kernel_file);
+    for (std::string_view part : {kCacheFormat, std::string_view(info.platform_name),
+                                  std::string_view(info.platform_version), std::string_view(info.name),
+                                  std::string_view(info.driver_version), std::string_view(info.device_version),
+                                  std::string_view(in.source), std::string_view(record.options)}) {
+        const std::uint64_t length = part.size();
+        in.identity.append(reinterpret_cast<const char*>(&length), sizeof length);
+        in.identity.append(part);
+    }
+    record.key = Fnv1a64().add(in.identity).hex();
+    return in;
 }
 
 }  // namespace
@@ -253,37 +448,18 @@ std::optional<std::filesystem::path> program_cache_dir() {
     return std::nullopt;
 }
 
+std::optional<CacheSeal> cache_seal(const Device& device, std::string_view kernel_file, std::string_view extra_options) {
+    const std::optional<std::filesystem::path> dir = program_cache_dir();
+    std::string note;
+    const auto key = dir ? open_cache_dir(*dir, note) : std::nullopt;
+    if (!key) return std::nullopt;
+    return CacheSeal{key->first, key->second, program_inputs(device, kernel_file, extra_options).identity};
+}
+
 Program build_program(Device& device, std::string_view kernel_file, std::string_view extra_options) {
     const auto start = std::chrono::steady_clock::now();
-    refuse_unsafe_options(extra_options);
-    const DeviceInfo& info = device.info();
-
-    BuildRecord record;
-    record.kernel_file = kernel_file;
-    record.device_name = info.name;
-    record.correctly_rounded_divide_sqrt = info.correctly_rounded_divide_sqrt;
-    record.options = "-cl-std=CL1.2";
-    if (record.correctly_rounded_divide_sqrt) {
-        record.options += " -cl-fp32-correctly-rounded-divide-sqrt";
-    }
-    if (info.has_extension("cl_nv_device_attribute_query")) {
-        // ptxas --verbose: the build log then holds each kernel's register count (measure/kernel_attributes.h).
-        record.options += " -cl-nv-verbose";
-    }
-    if (!extra_options.empty()) {
-        record.options += ' ';
-        record.options += extra_options;
-    }
-    const std::string source = std::string(kSourcePrologue) + load_kernel_source(kernel_file);
-
-    Fnv1a64 key;
-    for (std::string_view part : {kCacheFormat, std::string_view(info.platform_name),
-                                  std::string_view(info.platform_version), std::string_view(info.name),
-                                  std::string_view(info.driver_version), std::string_view(info.device_version),
-                                  std::string_view(source), std::string_view(record.options)}) {
-        key.add_part(part);
-    }
-    record.key = key.hex();
+    ProgramInputs in = program_inputs(device, kernel_file, extra_options);
+    BuildRecord& record = in.record;
 
     if (const Program* known = device.find_program(record.key)) {
         BuildRecord reused = known->record();
@@ -293,17 +469,21 @@ Program build_program(Device& device, std::string_view kernel_file, std::string_
         return Program(known->handle(), std::move(reused));
     }
 
+    std::optional<CacheSeal> seal;
     if (const std::optional<std::filesystem::path> dir = program_cache_dir()) {
-        record.cache_file = *dir / (record.key + ".bin");
+        if (const auto key = open_cache_dir(*dir, record.cache_note)) {
+            record.cache_file = *dir / (record.key + ".bin");
+            seal = CacheSeal{key->first, key->second, in.identity};
+        }
     }
     ProgramHandle program;
-    if (record.cache_file) {
-        program = load_from_disk(device, *record.cache_file, record);
+    if (seal) {
+        program = load_from_disk(device, *record.cache_file, *seal, in.source, record);
     }
     if (!program) {
-        program = compile_from_source(device, source, record);
-        if (record.cache_file) {
-            store_on_disk(program.get(), *record.cache_file, record);
+        program = compile_from_source(device, in.source, record);
+        if (seal) {
+            store_on_disk(program.get(), *record.cache_file, *seal, record);
         }
     }
     record.build_ms = ms_since(start);
@@ -316,18 +496,9 @@ Kernel make_kernel(const Program& program, const char* name) {
     cl_int status = CL_SUCCESS;
     Kernel kernel(clCreateKernel(program.get(), name, &status));
     if (status != CL_SUCCESS) {
-        std::string defined;
-        std::size_t size = 0;
-        if (clGetProgramInfo(program.get(), CL_PROGRAM_KERNEL_NAMES, 0, nullptr, &size) == CL_SUCCESS && size > 0) {
-            defined.resize(size);
-            if (clGetProgramInfo(program.get(), CL_PROGRAM_KERNEL_NAMES, size, defined.data(), nullptr) == CL_SUCCESS) {
-                defined.resize(std::min(defined.find('\0'), defined.size()));
-                for (std::size_t at = defined.find(';'); at != std::string::npos; at = defined.find(';', at)) {
-                    defined.replace(at, 1, ", ");
-                }
-            } else {
-                defined.clear();
-            }
+        std::string defined = kernel_names(program.get());
+        for (std::size_t at = defined.find(';'); at != std::string::npos; at = defined.find(';', at)) {
+            defined.replace(at, 1, ", ");
         }
         const BuildRecord& record = program.record();
         throw ClError(status,
@@ -337,15 +508,15 @@ Kernel make_kernel(const Program& program, const char* name) {
     return kernel;
 }
 
-std::string encode_cache_entry(const CacheEntry& entry) {
-    std::string bytes = fmt::format("{}\nkey {}\nlog {}\nbinary {}\nchecksum {}\n", kCacheFormat, entry.key,
-                                    entry.log.size(), entry.binary.size(), checksum(entry.log, entry.binary));
+std::string encode_cache_entry(const CacheEntry& entry, const CacheSeal& seal) {
+    std::string bytes = fmt::format("{}\nkey {}\nlog {}\nbinary {}\nmac {}\n", kCacheFormat, entry.key,
+                                    entry.log.size(), entry.binary.size(), mac(seal, entry));
     bytes += entry.log;
     bytes += entry.binary;
     return bytes;
 }
 
-std::optional<CacheEntry> decode_cache_entry(std::string_view bytes) {
+std::optional<CacheEntry> decode_cache_entry(std::string_view bytes, const CacheSeal& seal) {
     // Reads one header line "<label> <value>\n" (or exactly kCacheFormat for an empty label).
     const auto line = [&bytes](std::string_view label) -> std::optional<std::string_view> {
         const std::size_t end = bytes.find('\n');
@@ -357,7 +528,7 @@ std::optional<CacheEntry> decode_cache_entry(std::string_view bytes) {
         if (label.empty()) {
             return text;
         }
-        if (!text.starts_with(label) || text.size() <= label.size() || text[label.size()] != ' ') {
+        if (!text.starts_with(label) || text.size() < label.size() + 1 || text[label.size()] != ' ') {
             return std::nullopt;
         }
         return text.substr(label.size() + 1);
@@ -381,14 +552,14 @@ std::optional<CacheEntry> decode_cache_entry(std::string_view bytes) {
     const std::optional<std::string_view> key = line("key");
     const std::optional<std::size_t> log_size = number(line("log"));
     const std::optional<std::size_t> binary_size = number(line("binary"));
-    const std::optional<std::string_view> sum = line("checksum");
+    const std::optional<std::string_view> sum = line("mac");
     if (!key || !log_size || !binary_size || !sum || *log_size > bytes.size() ||
         bytes.size() - *log_size != *binary_size) {
         return std::nullopt;
     }
     CacheEntry entry{std::string(*key), std::string(bytes.substr(0, *log_size)),
                      std::string(bytes.substr(*log_size))};
-    if (checksum(entry.log, entry.binary) != *sum) {
+    if (mac(seal, entry) != *sum) {
         return std::nullopt;
     }
     return entry;

@@ -8,11 +8,15 @@
 // change floating-point results (fast/relaxed math, mad, ...) are refused.
 //
 // Disk cache directory: $SDFBRICK_CACHE_DIR ("off" disables the disk cache), else
-// $XDG_CACHE_HOME/sdfbrick/programs, else $HOME/.cache/sdfbrick/programs. A cache entry that cannot be
-// read, fails its checksum, or fails to load or build is deleted and the program is built from
-// source: a damaged cache never breaks a run.
+// $XDG_CACHE_HOME/sdfbrick/programs, else $HOME/.cache/sdfbrick/programs. It is kept private to the
+// user: created with mode 0700; one open to group or others is made 0700 and its entries are
+// discarded (its secret made anew); one owned by another user is not used (the record's cache_note
+// says which happened). A cache entry that cannot be read, whose MAC does not verify (see
+// CacheEntry), that the driver refuses, or whose binary defines other kernels than the entry says is
+// deleted and the program is built from source: a damaged or forged cache never breaks a run.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -75,15 +79,26 @@ Kernel make_kernel(const Program& program, const char* name);
 // applies it to every build log.
 std::string map_log_locations(std::string_view log, std::string_view assembled_source);
 
-// Disk cache entries: a short text header (format, key, sizes, checksum) then the build log and the
-// binary. Exposed for tests.
+// Disk cache entries: a short text header (format, key, sizes, MAC) then the build log and the
+// binary. The MAC is SipHash-2-4 keyed with the cache directory's secret, over the program's
+// identity (platform, device, driver, source, options) and the entry: an entry made by someone
+// without the secret, or for another program, never reaches the driver. A binary that passes is
+// still refused when it defines a kernel the source does not declare. Exposed for tests.
 struct CacheEntry {
     std::string key;
     std::string log;
     std::string binary;
 };
-std::string encode_cache_entry(const CacheEntry& entry);
-// std::nullopt when bytes are not a complete entry with a matching checksum.
-std::optional<CacheEntry> decode_cache_entry(std::string_view bytes);
+struct CacheSeal {
+    std::uint64_t k0 = 0, k1 = 0;  // the secret key
+    std::string identity;          // what the program's key hashes
+};
+std::string encode_cache_entry(const CacheEntry& entry, const CacheSeal& seal);
+// std::nullopt when bytes are not a complete entry whose MAC verifies under seal.
+std::optional<CacheEntry> decode_cache_entry(std::string_view bytes, const CacheSeal& seal);
+
+// The seal of build_program(device, kernel_file, extra_options)'s disk cache entry in the cache
+// directory now in effect; std::nullopt when the disk cache is off or unusable. Exposed for tests.
+std::optional<CacheSeal> cache_seal(const Device& device, std::string_view kernel_file, std::string_view extra_options = "");
 
 }  // namespace sdfbrick::ocl

@@ -13,14 +13,18 @@ void BuildFlags::add_to(CLI::App* cmd) {
     construct::BuildSettings& s = settings;
     brick_size_ = cmd->add_option("--brick-size,--min-brick-size", s.leaf_size,
                                   "side of a leaf brick (geometry units); with --tolerance the finest brick")
+                      ->check(finite_number())
                       ->capture_default_str();
     tolerance_ = cmd->add_option("--tolerance", s.tolerance,
                                       "adaptive leaves: a brick is a leaf at the coarsest level whose samples "
-                                      "reproduce the field within this distance (geometry units; default: uniform)");
+                                      "reproduce the field within this distance (geometry units; default: uniform)")
+                     ->check(finite_number());
     cmd->add_option("--tolerance-voxels", tolerance_voxels, "--tolerance in voxels of the finest brick")
+        ->check(finite_number())
         ->excludes(tolerance_);
     cmd->add_option("--max-brick-size", s.max_leaf_size,
-                    "adaptive: the largest leaf brick (default: a quarter of the geometry's extent)");
+                    "adaptive: the largest leaf brick (default: a quarter of the geometry's extent)")
+        ->check(finite_number());
     cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
     cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();
     cmd->add_option("--samples", s.samples, "samples per brick axis: 8 (one-voxel apron) or 10 (two-voxel apron)")->capture_default_str();

@@ -143,6 +143,7 @@ void run_build(const BuildOptions& o, const GlobalOptions& global) {
     const pipeline::DeviceMode mode = device_mode(global);
     BuildReport report;
     report.settings = o.flags.resolve();
+    if (o.json) check_output_path(*o.json);
     const Scene file_scene = load_scene(o.file);
     report.file = o.file;
     report.time = o.time.value_or(file_scene.time);
@@ -176,7 +177,7 @@ void add_build_command(CLI::App& app, const GlobalOptions& global) {
     auto* cmd = app.add_subcommand("build", "Build the sparse brick set of every geometry of a scene on each selected "
                                             "device: per-stage and per-level times, memory, digests");
     cmd->add_option("file", o->file, "scene file (JSON)")->required();
-    cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)");
+    cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)")->check(finite_number());
     o->flags.add_to(cmd);
     o->measure.add_to(cmd, "build");
     cmd->add_option("--json", o->json, "write a JSON report here");

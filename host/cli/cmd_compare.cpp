@@ -14,7 +14,7 @@ void add_compare_command(CLI::App& app) {
                                               "stages whose change exceeds the runs' own spread");
     cmd->add_option("files", *files, "A.json B.json")->required()->expected(2);
     cmd->callback([files] {
-        const auto deltas = measure::compare_reports(load_json((*files)[0]), load_json((*files)[1]));
+        const auto deltas = measure::compare_reports(load_json((*files)[0]), load_json((*files)[1]), (*files)[0], (*files)[1]);
         std::fputs(measure::compare_text(deltas).c_str(), stdout);
     });
 }

@@ -171,6 +171,8 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     spec.offset = o.offset;
     spec.resolution = o.size;
     report.image = o.out.value_or(default_image_path(scene));
+    check_output_path(report.image);
+    if (o.json) check_output_path(*o.json);
 
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     std::optional<reference::Slice> first;
@@ -184,11 +186,12 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
         if (!first) first = std::move(slice);
     }
     describe_slice(*first, report);
-    write_image(reference::slice_image(*first), report.image);
+    std::vector<Output> outputs{image_output(reference::slice_image(*first), report.image)};
     if (o.json) {
-        write_file_atomic(*o.json, format_json(to_json(report)));
+        outputs.push_back(text_output(*o.json, format_json(to_json(report))));
         report.json_path = *o.json;
     }
+    write_all(outputs);
     std::fputs(to_text(report).c_str(), stdout);
 }
 
@@ -201,9 +204,9 @@ void add_eval_command(CLI::App& app, const GlobalOptions& global) {
         "The main job: evaluate a slice of the scene's distance field on each selected device, compare it with "
         "the double-precision host reference, print a summary and write a picture of the slice");
     cmd->add_option("file", o->file, "scene file (JSON)")->required();
-    cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)");
+    cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)")->check(finite_number());
     cmd->add_option("--axis", o->axis, "slice perpendicular to this axis")->check(CLI::IsMember({"x", "y", "z"}))->capture_default_str();
-    cmd->add_option("--offset", o->offset, "slice position along the axis (default: the centre of the scene's bounds)");
+    cmd->add_option("--offset", o->offset, "slice position along the axis (default: the centre of the scene's bounds)")->check(finite_number());
     cmd->add_option("--size", o->size, "pixels along the longer side of the slice")->check(CLI::Range(2, 8192))->capture_default_str();
     cmd->add_option("-o,--out", o->out, "picture to write (.png/.exr with OpenImageIO; .ppm/.pfm always); default NAME-slice.png");
     cmd->add_option("--json", o->json, "write a JSON report here");

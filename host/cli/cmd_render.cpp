@@ -348,19 +348,20 @@ bool devices_agree(const RenderReport& r) {
     });
 }
 
-// Writes the picture of the first device's render (and with --compare the reference and difference
-// pictures) and records their paths in the report.
-void write_pictures(const RenderOptions& o, const DeviceRender& first, const std::filesystem::path& out,
-                    RenderReport& report) {
-    write_image(picture(o.mode, first.buffer, first.shaded, out), out);
+// The picture of the first device's render (and with --compare the reference and difference
+// pictures) as outputs; their paths recorded in the report.
+std::vector<Output> picture_outputs(const RenderOptions& o, const DeviceRender& first, const std::filesystem::path& out,
+                                    RenderReport& report) {
+    std::vector<Output> outputs{image_output(picture(o.mode, first.buffer, first.shaded, out), out)};
     report.image = out.string();
-    if (!o.compare) return;
+    if (!o.compare) return outputs;
     const auto ref_path = with_suffix(out, "-reference");
     const auto diff_path = with_suffix(out, "-difference");
-    write_image(picture(o.mode == "depth" ? "depth" : "normals", *first.reference, {}, ref_path), ref_path);
-    write_image(reference::difference_image(first.buffer, *first.reference, first.report.bricks->figures.voxel_world),
-                diff_path);
+    outputs.push_back(image_output(picture(o.mode == "depth" ? "depth" : "normals", *first.reference, {}, ref_path), ref_path));
+    outputs.push_back(image_output(
+        reference::difference_image(first.buffer, *first.reference, first.report.bricks->figures.voxel_world), diff_path));
     report.comparison_images = {ref_path.string(), diff_path.string()};
+    return outputs;
 }
 
 // --devices split: one build and trace shared by the devices; the picture of the merged image.
@@ -420,6 +421,12 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const Scene scene = scene_at(file_scene, t);
     const std::filesystem::path out = o.out.value_or(fmt::format("{}-{}.{}", scene.name.empty() ? "scene" : scene.name,
                                                                  o.mode, image_io_has_oiio() ? "png" : "ppm"));
+    check_output_path(out);
+    if (o.compare) {
+        check_output_path(with_suffix(out, "-reference"));
+        check_output_path(with_suffix(out, "-difference"));
+    }
+    if (o.json) check_output_path(*o.json);
     if (mode == pipeline::DeviceMode::split) return run_render_split(o, global, scene, out);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     const TuningChoice tuning = open_tuning(global);
@@ -437,11 +444,12 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
         }
     }
     report.devices_agree = devices_agree(report);
-    write_pictures(o, *first, out, report);
+    std::vector<Output> outputs = picture_outputs(o, *first, out, report);
     if (o.json) {
-        write_file_atomic(*o.json, format_json(to_json(report)));
+        outputs.push_back(text_output(*o.json, format_json(to_json(report))));
         report.json_path = *o.json;
     }
+    write_all(outputs);
     std::fputs(to_text(report, o.measure.kernel_stats).c_str(), stdout);
 }
 
@@ -452,7 +460,7 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
     auto* cmd = app.add_subcommand("render", "Build a scene's bricks and BVH, ray trace them from the scene's camera "
                                              "and write the picture; --compare measures it against the reference");
     cmd->add_option("file", o->file, "scene file (JSON)")->required();
-    cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)");
+    cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)")->check(finite_number());
     o->flags.add_to(cmd);
     cmd->add_option("--width", o->trace.width, "image width (1..3840)")->capture_default_str();
     cmd->add_option("--height", o->trace.height, "image height (1..2160)")->capture_default_str();

@@ -74,10 +74,11 @@ void add_scene_commands(CLI::App& app, const GlobalOptions&) {
         "info", "Edits per geometry, primitive and operation histograms, bounds (at the scene's time)");
     cmd_info->add_option("file", info->file, "scene file (JSON)")->required();
     cmd_info->add_flag("--json", info->json, "print JSON instead of text");
-    cmd_info->add_option("--time", info->time, "evaluate the animation at this time (s) instead of the file's");
+    cmd_info->add_option("--time", info->time, "evaluate the animation at this time (s) instead of the file's")->check(finite_number());
     cmd_info->add_option("--bricks", info->leaf_size,
                          "also count the surface bricks at this leaf size with the double-precision host "
-                         "reference (no culling: slow for large scenes, seconds to minutes)");
+                         "reference (no culling: slow for large scenes, seconds to minutes)")
+        ->check(finite_number());
     cmd_info->add_option("--branching", info->branching, "branching factor per axis for --bricks")
         ->check(CLI::IsMember({2, 4}));
     add_setting_flags(cmd_info, {{"leaf_size", "--bricks"}, {"branching", "--branching"}});

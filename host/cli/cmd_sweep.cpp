@@ -127,8 +127,8 @@ void add_sweep_commands(CLI::App& app, const GlobalOptions& global) {
                                             "stages, occupancy, memory, accuracy; CSV and JSON, resumable, shardable");
     cmd->add_option("file", o->file, "sweep file (JSON, docs/sweep.md); flags override its keys");
     cmd->add_option("--scenes", o->scenes, "scene files")->delimiter(',');
-    cmd->add_option("--brick-sizes", o->brick_sizes, "leaf brick sizes (with a tolerance: the finest)")->delimiter(',');
-    cmd->add_option("--tolerances", o->tolerances, "adaptive tolerances (0: uniform)")->delimiter(',');
+    cmd->add_option("--brick-sizes", o->brick_sizes, "leaf brick sizes (with a tolerance: the finest)")->check(finite_number())->delimiter(',');
+    cmd->add_option("--tolerances", o->tolerances, "adaptive tolerances (0: uniform)")->check(finite_number())->delimiter(',');
     cmd->add_option("--chunks", o->chunks, "edits per __local chunk (16..256)")->delimiter(',');
     cmd->add_option("--groups", o->groups, "evaluation work-group sizes")->delimiter(',');
     cmd->add_option("--trace-groups", o->trace_groups, "trace work-groups, WxH")->delimiter(',');

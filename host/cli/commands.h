@@ -57,6 +57,9 @@ struct SplitDevices {
 };
 SplitDevices open_split_devices(const GlobalOptions& global);
 
+// A number option's check: refuses nan, inf and values that overflow a double ("1e999").
+const CLI::Validator& finite_number();
+
 void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_scene_commands(CLI::App& app, const GlobalOptions& global);
 void add_eval_command(CLI::App& app, const GlobalOptions& global);

@@ -1,14 +1,20 @@
 // sdfbrick: the command line. Exit status 0 on success, 2 for bad input (a malformed scene, an
 // unknown device, a bad option), 1 for any other failure (an OpenCL error, ...). Every failure is
 // one line on stderr.
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include <fmt/format.h>
 
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/files.h"
+#include "core/quote.h"
 
 int main(int argc, char** argv) {
     using namespace sdfbrick;
@@ -42,13 +48,16 @@ int main(int argc, char** argv) {
     cli::add_compare_command(app);
 
     try {
+        // A closed standard output would be reused by the next file opened, and what is meant for
+        // the terminal would land in an output file.
+        if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) throw InputError("standard output is closed");
         app.parse(argc, argv);
+        finish_stdout();
         return 0;
     } catch (const CLI::Success& e) {
         return app.exit(e);  // --help, --version
     } catch (const CLI::ParseError& e) {
-        std::fprintf(stderr, "sdfbrick: %s\n", e.what());
-        std::fprintf(stderr, "Run with --help for usage.\n");
+        std::fprintf(stderr, "sdfbrick: %s (run with --help for usage)\n", escaped(e.what(), 300).c_str());
         return 2;
     } catch (const SettingError& e) {
         std::fprintf(stderr, "sdfbrick: %s\n", cli::setting_error_line(app, e).c_str());
@@ -56,6 +65,9 @@ int main(int argc, char** argv) {
     } catch (const InputError& e) {
         std::fprintf(stderr, "sdfbrick: %s\n", e.what());
         return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "sdfbrick: error: out of host memory\n");
+        return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sdfbrick: error: %s\n", e.what());
         return 1;

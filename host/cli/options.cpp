@@ -1,10 +1,13 @@
 // Options every verb shares, and the table of which flag sets each setting (commands.h).
+#include <charconv>
+#include <cmath>
 #include <map>
 
 #include <fmt/format.h>
 
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
+#include "core/quote.h"
 
 namespace sdfbrick::cli {
 
@@ -72,6 +75,20 @@ SplitDevices open_split_devices(const GlobalOptions& global) {
     SplitDevices s{ocl::DeviceSet::open(global.device), {}, pipeline::RateStore(pipeline::RateStore::default_path())};
     for (ocl::Device& d : s.set) s.devices.push_back(&d);
     return s;
+}
+
+const CLI::Validator& finite_number() {
+    static const CLI::Validator check(
+        [](const std::string& text) -> std::string {
+            double value = 0.0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+            if (ec == std::errc::result_out_of_range) return "number out of range: " + quoted_input(text);
+            if (ec == std::errc() && end == text.data() + text.size() && !std::isfinite(value))
+                return "must be a finite number, got " + quoted_input(text);
+            return {};  // not a number at all: the option's own conversion says so
+        },
+        "FINITE");
+    return check;
 }
 
 }  // namespace sdfbrick::cli

@@ -1,7 +1,10 @@
 // FNV-1a 64: a small, stable hash for cache keys and output digests (equal iff bytes are equal,
-// up to the usual 64-bit collision odds).
+// up to the usual 64-bit collision odds). SipHash-2-4: a keyed hash (a MAC) for what must not be
+// forged by someone who does not hold the key (program cache entries).
 #pragma once
 
+#include <array>
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -30,6 +33,60 @@ public:
 
 private:
     std::uint64_t state_ = 0xCBF29CE484222325ull;
+};
+
+// SipHash-2-4 (Aumasson and Bernstein) with a 128-bit key, fed incrementally.
+class SipHash24 {
+public:
+    SipHash24(std::uint64_t k0, std::uint64_t k1)
+        : v_{k0 ^ 0x736f6d6570736575ull, k1 ^ 0x646f72616e646f6dull, k0 ^ 0x6c7967656e657261ull, k1 ^ 0x7465646279746573ull} {}
+
+    SipHash24& add(std::string_view s) {
+        for (const char c : s) {
+            tail_ |= std::uint64_t{static_cast<std::uint8_t>(c)} << (8 * (length_ % 8));
+            if (++length_ % 8 == 0) {
+                compress(tail_);
+                tail_ = 0;
+            }
+        }
+        return *this;
+    }
+    // One part of a multi-part message: its length first, so that part boundaries are unambiguous.
+    SipHash24& add_part(std::string_view s) {
+        std::uint64_t length = s.size();
+        char bytes[8];
+        for (char& b : bytes) {
+            b = static_cast<char>(length & 0xff);
+            length >>= 8;
+        }
+        return add(std::string_view(bytes, 8)).add(s);
+    }
+    std::uint64_t value() const {
+        SipHash24 last = *this;
+        last.compress(last.tail_ | (std::uint64_t{length_ & 0xff} << 56));
+        last.v_[2] ^= 0xff;
+        for (int i = 0; i < 4; ++i) last.round();
+        return last.v_[0] ^ last.v_[1] ^ last.v_[2] ^ last.v_[3];
+    }
+    std::string hex() const { return fmt::format("{:016x}", value()); }
+
+private:
+    void round() {
+        auto& [v0, v1, v2, v3] = v_;
+        v0 += v1; v1 = std::rotl(v1, 13); v1 ^= v0; v0 = std::rotl(v0, 32);
+        v2 += v3; v3 = std::rotl(v3, 16); v3 ^= v2;
+        v0 += v3; v3 = std::rotl(v3, 21); v3 ^= v0;
+        v2 += v1; v1 = std::rotl(v1, 17); v1 ^= v2; v2 = std::rotl(v2, 32);
+    }
+    void compress(std::uint64_t m) {
+        v_[3] ^= m;
+        round();
+        round();
+        v_[0] ^= m;
+    }
+    std::array<std::uint64_t, 4> v_;
+    std::uint64_t tail_ = 0;
+    std::uint64_t length_ = 0;
 };
 
 }  // namespace sdfbrick

@@ -72,19 +72,21 @@ bool image_io_has_oiio() {
 #endif
 }
 
-void write_image(const Image& image, const std::filesystem::path& path) {
+Output image_output(Image image, const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    write_via_temp(path, [&](const std::filesystem::path& tmp) {
-        if (ext == ".ppm" || ext == ".pgm") return write_ppm(image, tmp);
-        if (ext == ".pfm") return write_pfm(image, tmp);
+    return {path, [image = std::move(image), ext, path](const std::filesystem::path& tmp) {
+                if (ext == ".ppm" || ext == ".pgm") return write_ppm(image, tmp);
+                if (ext == ".pfm") return write_pfm(image, tmp);
 #ifdef SDFBRICK_WITH_OIIO
-        write_oiio(image, tmp, path);
+                write_oiio(image, tmp, path);
 #else
-        throw InputError(fmt::format("{}: this build has no OpenImageIO (configured with SDFBRICK_WITH_OIIO=OFF): "
-                                     "write .ppm or .pfm instead", path.string()));
+                throw InputError(fmt::format("{}: this build has no OpenImageIO (configured with SDFBRICK_WITH_OIIO=OFF): "
+                                             "write .ppm or .pfm instead", path.string()));
 #endif
-    });
+            }};
 }
+
+void write_image(const Image& image, const std::filesystem::path& path) { write_all({image_output(image, path)}); }
 
 }  // namespace sdfbrick

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/files.h"
+
 namespace sdfbrick {
 
 struct Image {
@@ -22,6 +24,9 @@ struct Image {
 // Picks the format by extension. 8-bit formats get the values clamped to [0, 1].
 // Throws InputError for an extension this build cannot write.
 void write_image(const Image& image, const std::filesystem::path& path);
+
+// The same as an output of write_all (core/files.h), for commands that write several files as one.
+Output image_output(Image image, const std::filesystem::path& path);
 
 // True when this build writes PNG/EXR (OpenImageIO present).
 bool image_io_has_oiio();

@@ -15,12 +15,38 @@ struct Side {
     nlohmann::json stages;
 };
 
-std::vector<Side> sides(const nlohmann::json& report, const char* which) {
+// Refuses (InputError naming the file and the JSON path) a stage list that is not an array of
+// objects with a string "name" and numeric times.
+void check_stages(const nlohmann::json& stages, const std::string& which, const std::string& path) {
+    const auto fail = [&](const std::string& at, std::string_view what) {
+        return InputError(fmt::format("{}: {}: {}", which, at, what));
+    };
+    if (!stages.is_array()) throw fail(path, "expected an array of stages");
+    for (std::size_t i = 0; i < stages.size(); ++i) {
+        const nlohmann::json& s = stages[i];
+        const std::string at = fmt::format("{}/{}", path, i);
+        if (!s.is_object()) throw fail(at, "expected a stage object");
+        if (!s.contains("name") || !s["name"].is_string()) throw fail(at + "/name", "expected a string");
+        for (const char* key : {"median_ms", "device_ms", "min_ms", "max_ms"})
+            if (s.contains(key) && !s[key].is_number()) throw fail(at + "/" + key, "expected a number");
+    }
+}
+
+std::vector<Side> sides(const nlohmann::json& report, const std::string& which) {
     std::vector<Side> out;
     if (report.contains("devices") && report["devices"].is_array())
-        for (const auto& d : report["devices"])
-            if (d.contains("stages")) out.push_back({d.contains("device") ? d["device"].value("name", "?") : "?", d["stages"]});
-    if (out.empty() && report.contains("stages")) out.push_back({"", report["stages"]});
+        for (std::size_t i = 0; i < report["devices"].size(); ++i) {
+            const nlohmann::json& d = report["devices"][i];
+            if (!d.is_object() || !d.contains("stages")) continue;
+            check_stages(d["stages"], which, fmt::format("/devices/{}/stages", i));
+            const bool named = d.contains("device") && d["device"].is_object() && d["device"].contains("name") &&
+                               d["device"]["name"].is_string();
+            out.push_back({named ? d["device"]["name"].get<std::string>() : "?", d["stages"]});
+        }
+    if (out.empty() && report.is_object() && report.contains("stages")) {
+        check_stages(report["stages"], which, "/stages");
+        out.push_back({"", report["stages"]});
+    }
     if (out.empty()) throw InputError(fmt::format("{}: no per-stage times (expected the JSON report of a build or render)", which));
     return out;
 }
@@ -64,8 +90,9 @@ void add_pair(const Side& a, const Side& b, std::vector<StageDelta>& out) {
 
 }  // namespace
 
-std::vector<StageDelta> compare_reports(const nlohmann::json& a, const nlohmann::json& b) {
-    const std::vector<Side> sa = sides(a, "A"), sb = sides(b, "B");
+std::vector<StageDelta> compare_reports(const nlohmann::json& a, const nlohmann::json& b, const std::string& name_a,
+                                        const std::string& name_b) {
+    const std::vector<Side> sa = sides(a, name_a), sb = sides(b, name_b);
     std::vector<StageDelta> out;
     if (sa.size() == 1 && sb.size() == 1) {
         add_pair(sa[0], sb[0], out);

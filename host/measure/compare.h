@@ -22,8 +22,10 @@ struct StageDelta {
 };
 
 // Devices are paired by name; when each report has exactly one device they are paired whatever their
-// names (a vendor comparison). Throws InputError naming which report lacks stages.
-std::vector<StageDelta> compare_reports(const nlohmann::json& a, const nlohmann::json& b);
+// names (a vendor comparison). name_a and name_b name the reports (their files) in errors: an
+// InputError names the report and the JSON path of a stage list that is missing or wrongly typed.
+std::vector<StageDelta> compare_reports(const nlohmann::json& a, const nlohmann::json& b, const std::string& name_a = "A",
+                                        const std::string& name_b = "B");
 std::string compare_text(const std::vector<StageDelta>& deltas);
 
 }  // namespace sdfbrick::measure

@@ -3,18 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "core/quote.h"
 
 namespace sdfbrick {
 
 using nlohmann::json;
 
 namespace {
+
+// How much of a file name a message echoes.
+constexpr std::size_t kPathEchoLimit = 256;
 
 // A position in the document: the value, its JSON path, and the file, for error messages.
 class Node {
@@ -23,7 +28,7 @@ public:
         : value_(value), path_(std::move(path)), origin_(origin) {}
 
     [[noreturn]] void fail(const std::string& what) const {
-        throw InputError(fmt::format("{}: {}: {}", origin_, path_.empty() ? "/" : path_, what));
+        throw InputError(fmt::format("{}: {}: {}", origin_, path_.empty() ? "/" : shortened_path(path_), what));
     }
 
     const json& value() const { return value_; }
@@ -62,6 +67,7 @@ public:
         if (!value_.is_number()) fail("expected a number, got " + type_name());
         const double v = value_.get<double>();
         if (!std::isfinite(v)) fail("number is not finite");
+        if (std::abs(v) > kSceneNumberLimit) fail(fmt::format("{} is out of range: scene numbers lie in [-{:g}, {:g}]", v, kSceneNumberLimit, kSceneNumberLimit));
         return v;
     }
     double positive() const {
@@ -148,7 +154,7 @@ Primitive read_primitive(const Node& n) {
         std::string names;
         for (std::size_t i = 0; i < kPrimitiveCount; ++i)
             names += (i ? ", " : "") + std::string(to_string(static_cast<Primitive>(i)));
-        prim_node.fail(fmt::format("unknown primitive \"{}\" (known: {})", prim_name, names));
+        prim_node.fail(fmt::format("unknown primitive {} (known: {})", quoted_input(prim_name), names));
     }
     return *prim;
 }
@@ -230,7 +236,7 @@ Edit read_edit(const Node& n) {
         const Node o = n["op"];
         const std::string name = o.string();
         const auto op = op_from_string(name);
-        if (!op) o.fail(fmt::format("unknown operation \"{}\" (known: add, subtract, intersect)", name));
+        if (!op) o.fail(fmt::format("unknown operation {} (known: add, subtract, intersect)", quoted_input(name)));
         e.op = *op;
     }
     if (n.has("blend")) e.blend = n["blend"].non_negative();
@@ -336,7 +342,7 @@ Scene scene_from_json(const json& j, std::string_view origin) {
         const Node g = geos.at(i);
         s.geometries.push_back(read_geometry(g));
         if (!by_name.emplace(s.geometries.back().name, i).second)
-            g["name"].fail(fmt::format("duplicate geometry name \"{}\"", s.geometries.back().name));
+            g["name"].fail(fmt::format("duplicate geometry name {}", quoted_input(s.geometries.back().name)));
     }
     if (root.has("objects")) {
         const Node objs = root["objects"];
@@ -348,7 +354,7 @@ Scene scene_from_json(const json& j, std::string_view origin) {
             const Node gname = o["geometry"];
             const std::string name = gname.string();
             const auto it = by_name.find(name);
-            if (it == by_name.end()) gname.fail(fmt::format("no geometry named \"{}\"", name));
+            if (it == by_name.end()) gname.fail(fmt::format("no geometry named {}", quoted_input(name)));
             obj.geometry = it->second;
             obj.name = o.has("name") ? o["name"].string() : name;
             read_transform_fields(o, obj.transform);
@@ -377,28 +383,36 @@ public:
     bool number_float(number_float_t, const string_t&) override { return value(); }
     bool string(string_t&) override { return value(); }
     bool binary(binary_t&) override { return value(); }
-    bool start_object(std::size_t) override { stack_.push_back({false, 0, ""}); return true; }
-    bool key(string_t& k) override { stack_.back().key = k; return true; }
+    bool start_object(std::size_t) override { stack_.push_back({false, 0, "", {}}); return true; }
+    bool key(string_t& k) override {
+        Level& level = stack_.back();
+        level.key = k;
+        if (!level.keys.insert(k).second) {
+            error = fmt::format("{}: {}: duplicate key", origin_, path());
+            return false;
+        }
+        return true;
+    }
     bool end_object() override { stack_.pop_back(); return value(); }
-    bool start_array(std::size_t) override { stack_.push_back({true, 0, ""}); return true; }
+    bool start_array(std::size_t) override { stack_.push_back({true, 0, "", {}}); return true; }
     bool end_array() override { stack_.pop_back(); return value(); }
     bool parse_error(std::size_t position, const std::string& token, const nlohmann::detail::exception& ex) override {
         const std::string where = line_column(text_, position ? position - 1 : 0);
         if (ex.id == 406) {  // out_of_range: number overflow
-            error = fmt::format("{}: {}: number is not finite: {} ({})", origin_, path(), token, where);
+            error = fmt::format("{}: {}: number is not finite: {} ({})", origin_, path(), escaped(token), where);
             return false;
         }
         std::string msg = ex.what();
         const auto cut = msg.find("syntax error");
         if (cut != std::string::npos) msg = msg.substr(cut);
         const bool truncated = position >= text_.size();
-        error = fmt::format("{}: {}: invalid JSON at {}: {}{}", origin_, path(), where, msg,
+        error = fmt::format("{}: {}: invalid JSON at {}: {}{}", origin_, path(), where, escaped(msg, 200),
                             truncated ? " (is the file truncated?)" : "");
         return false;
     }
 
 private:
-    struct Level { bool array; std::size_t index; std::string key; };
+    struct Level { bool array; std::size_t index; std::string key; std::set<std::string> keys; };
     bool value() {
         if (!stack_.empty() && stack_.back().array) ++stack_.back().index;
         return true;
@@ -406,7 +420,7 @@ private:
     std::string path() const {
         std::string p;
         for (const Level& l : stack_) p += "/" + (l.array ? std::to_string(l.index) : l.key);
-        return p.empty() ? "/" : p;
+        return p.empty() ? "/" : shortened_path(p);
     }
     std::string_view text_;
     std::string_view origin_;
@@ -416,7 +430,8 @@ private:
 }  // namespace
 
 json parse_json_text(std::string_view text, std::string_view origin) {
-    PathTracker tracker(text, origin);
+    const std::string shown = escaped(origin, kPathEchoLimit);
+    PathTracker tracker(text, shown);
     if (!json::sax_parse(text.begin(), text.end(), &tracker)) throw InputError(tracker.error);
     return json::parse(text.begin(), text.end());
 }
@@ -424,7 +439,7 @@ json parse_json_text(std::string_view text, std::string_view origin) {
 json load_json(const std::filesystem::path& path) { return parse_json_text(read_file(path), path.string()); }
 
 Scene parse_scene(std::string_view text, std::string_view origin) {
-    return scene_from_json(parse_json_text(text, origin), origin);
+    return scene_from_json(parse_json_text(text, origin), escaped(origin, kPathEchoLimit));
 }
 
 Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_file(path), path.string()); }
@@ -515,7 +530,7 @@ bool is_flat(const json& j) {
 }
 
 void format_into(std::string& out, const json& j, int indent, int depth) {
-    const std::string one_line = j.dump();
+    const std::string one_line = j.dump(-1, ' ', false, json::error_handler_t::replace);
     if (!j.is_structured() || j.empty() || (is_flat(j) && one_line.size() <= 280)) {
         // nlohmann's compact dump, with a space after ':' and ',' for readability (outside strings).
         bool in_string = false, escaped = false;
@@ -539,7 +554,7 @@ void format_into(std::string& out, const json& j, int indent, int depth) {
     std::size_t i = 0;
     for (auto it = j.begin(); it != j.end(); ++it, ++i) {
         out += pad;
-        if (is_object) out += json(it.key()).dump() + ": ";
+        if (is_object) out += json(it.key()).dump(-1, ' ', false, json::error_handler_t::replace) + ": ";
         format_into(out, *it, indent, depth + 1);
         out += i + 1 < j.size() ? ",\n" : "\n";
     }

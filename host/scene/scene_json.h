@@ -16,6 +16,11 @@ namespace sdfbrick {
 
 inline constexpr int kSceneFormatVersion = 1;
 
+// Every number of a scene file lies in [-kSceneNumberLimit, kSceneNumberLimit]: far below SDF_FAR
+// (1e20) and float's range even after scaling, animation and squaring, so that no bound, blend
+// constant or distance the kernels compute overflows.
+inline constexpr double kSceneNumberLimit = 1e6;
+
 Scene load_scene(const std::filesystem::path& path);
 // `origin` names the source in error messages (a file name, or "<string>").
 Scene parse_scene(std::string_view text, std::string_view origin);

@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <type_traits>
 
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/quote.h"
 
 namespace sdfbrick::sweep {
 
@@ -24,16 +28,56 @@ void check_each(const std::vector<T>& values, const char* key, auto&& ok, const 
         if (!ok(v)) throw InputError(fmt::format("sweep: \"{}\" has {}; expected {}", key, nlohmann::json(v).dump(), expected));
 }
 
+// One JSON value as T, strictly: an integer must be a whole number within T's range (no silent
+// truncation of 64.5 or 1e30), a bool a JSON boolean, a string a JSON string.
+template <class T>
+std::optional<T> value_as(const nlohmann::json& v) {
+    if constexpr (std::is_same_v<T, bool>) {
+        if (v.is_boolean()) return v.get<bool>();
+    } else if constexpr (std::is_integral_v<T>) {
+        if (!v.is_number()) return std::nullopt;
+        const double d = v.get<double>();
+        if (d == std::floor(d) && d >= static_cast<double>(std::numeric_limits<T>::min()) &&
+            d <= static_cast<double>(std::numeric_limits<T>::max()))
+            return static_cast<T>(d);
+    } else if constexpr (std::is_floating_point_v<T>) {
+        if (v.is_number()) return v.get<T>();
+    } else {
+        if (v.is_string()) return v.get<T>();
+    }
+    return std::nullopt;
+}
+
+template <class T>
+std::string kind_name() {
+    if constexpr (std::is_same_v<T, bool>) return "true or false";
+    else if constexpr (std::is_integral_v<T>)
+        return fmt::format("a whole number in [{}, {}]", std::numeric_limits<T>::min(), std::numeric_limits<T>::max());
+    else if constexpr (std::is_floating_point_v<T>) return "a number";
+    else return "a string";
+}
+
 template <class T>
 std::vector<T> list(const nlohmann::json& j, const char* key, const std::string& where) {
     if (!j.contains(key)) return {};
     const nlohmann::json& v = j.at(key);
-    try {
-        if (v.is_array()) return v.get<std::vector<T>>();
-        return {v.get<T>()};
-    } catch (const nlohmann::json::exception&) {
-        throw InputError(fmt::format("{}: \"{}\" must be a value or a list of values, got {}", where, key, v.dump()));
+    std::vector<T> out;
+    for (const nlohmann::json& item : v.is_array() ? v : nlohmann::json::array({v})) {
+        const std::optional<T> value = value_as<T>(item);
+        if (!value)
+            throw InputError(fmt::format("{}: \"{}\" must be {} or a list of them, got {}", where, key, kind_name<T>(),
+                                         escaped(item.dump())));
+        out.push_back(*value);
     }
+    return out;
+}
+
+template <class T>
+T scalar(const nlohmann::json& j, const char* key, const std::string& where, T fallback) {
+    if (!j.contains(key)) return fallback;
+    const std::optional<T> value = value_as<T>(j.at(key));
+    if (!value) throw InputError(fmt::format("{}: \"{}\" must be {}, got {}", where, key, kind_name<T>(), escaped(j.at(key).dump())));
+    return *value;
 }
 
 }  // namespace
@@ -84,7 +128,7 @@ SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
                                         "height", "warmup", "repeat", "accuracy"};
     for (const auto& [key, value] : j.items())
         if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) == std::end(kKeys))
-            throw InputError(fmt::format("{}: unknown key \"{}\"", where, key));
+            throw InputError(fmt::format("{}: unknown key {}", where, quoted_input(key)));
     SweepSpec s;
     s.scenes = list<std::string>(j, "scenes", where);
     s.brick_sizes = list<double>(j, "brick_sizes", where);
@@ -97,16 +141,12 @@ SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
     s.samples = list<int>(j, "samples", where);
     s.methods = list<std::string>(j, "methods", where);
     s.normals = list<std::string>(j, "normals", where);
-    try {
-        s.devices = j.value("devices", std::string());
-        s.width = j.value("width", s.width);
-        s.height = j.value("height", s.height);
-        s.warmup = j.value("warmup", s.warmup);
-        s.repeat = j.value("repeat", s.repeat);
-        s.accuracy = j.value("accuracy", s.accuracy);
-    } catch (const nlohmann::json::exception& e) {
-        throw InputError(fmt::format("{}: {}", where, e.what()));
-    }
+    s.devices = scalar<std::string>(j, "devices", where, "");
+    s.width = scalar(j, "width", where, s.width);
+    s.height = scalar(j, "height", where, s.height);
+    s.warmup = scalar(j, "warmup", where, s.warmup);
+    s.repeat = scalar(j, "repeat", where, s.repeat);
+    s.accuracy = scalar(j, "accuracy", where, s.accuracy);
     return s;
 }
 

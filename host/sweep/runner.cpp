@@ -198,7 +198,8 @@ void ResultCache::add(const std::string& key, const SweepRow& row) {
     std::ofstream out(path_, std::ios::app);
     if (cut_) out << '\n';
     cut_ = false;
-    out << nlohmann::json{{"key", key}, {"row", to_json(row)}}.dump() << '\n';
+    out << nlohmann::json{{"key", key}, {"row", to_json(row)}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+        << '\n';
     out.flush();
     if (!out) throw std::runtime_error(fmt::format("writing the sweep cache {}", path_.string()));
 }

@@ -12,6 +12,7 @@
 #include <iterator>
 #include <numeric>
 #include <optional>
+#include <random>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -413,6 +414,11 @@ constexpr const char* kProbeKernel = "__kernel void probe(__global float* out) {
                                      "    out[get_global_id(0)] = PROBE_VALUE;\n"
                                      "}\n";
 
+std::string read_bytes(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 // Runs probe on a fresh device and returns out[0].
 float run_probe(Device& device, const Program& program) {
     const Kernel kernel = make_kernel(program, "probe");
@@ -480,10 +486,13 @@ TEST(ClPrograms, DamagedCacheEntriesFallBackToSource) {
         file = *program.record().cache_file;
         key = program.record().key;
     }
+    DeviceSet opened = test::open_test_devices();
+    const std::optional<CacheSeal> seal = cache_seal(opened[0], "probe.cl");
+    ASSERT_TRUE(seal.has_value());
     const std::vector<std::string> damaged = {
-        "garbage",                                                   // not an entry
-        encode_cache_entry({key, "log", "not a program binary"}),  // a well-formed entry, a bad binary
-        encode_cache_entry({"0123456789abcdef", "", "x"}),          // an entry for another key
+        "garbage",                                                        // not an entry
+        encode_cache_entry({key, "log", "not a program binary"}, *seal),  // a sealed entry, a bad binary
+        encode_cache_entry({"0123456789abcdef", "", "x"}, *seal),         // an entry for another key
     };
     for (const std::string& bytes : damaged) {
         test::write_text(file, bytes);
@@ -494,12 +503,76 @@ TEST(ClPrograms, DamagedCacheEntriesFallBackToSource) {
             << program.record().cache_note;
         EXPECT_EQ(run_probe(set[0], program), 7.0f);
         // The rebuilt binary replaced the damaged entry.
-        std::ifstream in(file, std::ios::binary);
-        const std::string stored((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        const std::optional<CacheEntry> entry = decode_cache_entry(stored);
+        const std::optional<CacheEntry> entry = decode_cache_entry(read_bytes(file), *seal);
         ASSERT_TRUE(entry.has_value());
         EXPECT_EQ(entry->key, key);
     }
+}
+
+// An entry forged without the cache's secret (a valid header, a random binary, a MAC under a guessed
+// key) never reaches the driver (PoCL aborts on some random binaries); a correctly sealed binary of
+// another program is refused by its kernel names. Both fall back to a build from source.
+TEST(ClPrograms, ForgedOrForeignCacheEntriesNeverRun) {
+    const std::filesystem::path dir = test::temp_dir("device_layer_forged");
+    test::write_text(dir / "kernels" / "probe.cl", std::string("#define PROBE_VALUE 5.0f\n") + kProbeKernel);
+    test::write_text(dir / "kernels" / "other.cl", "__kernel void other(__global float* out) { out[0] = 1.0f; }\n");
+    const ScopedKernelDir kernels(dir / "kernels");
+    const ScopedEnv cache(kCacheDirEnv, (dir / "cache").string());
+    std::filesystem::path file, other_file;
+    std::optional<CacheSeal> seal, other_seal;
+    std::string key;
+    {
+        DeviceSet set = test::open_test_devices();
+        const Program program = build_program(set[0], "probe.cl");
+        const Program other = build_program(set[0], "other.cl");
+        file = *program.record().cache_file;
+        other_file = *other.record().cache_file;
+        key = program.record().key;
+        seal = cache_seal(set[0], "probe.cl");
+        other_seal = cache_seal(set[0], "other.cl");
+        ASSERT_TRUE(seal && other_seal);
+    }
+    std::mt19937_64 random(7);
+    std::string noise(100000, '\0');
+    for (char& c : noise) c = static_cast<char>(random());
+    const std::optional<CacheEntry> foreign = decode_cache_entry(read_bytes(other_file), *other_seal);
+    ASSERT_TRUE(foreign.has_value());
+    const std::vector<std::pair<std::string, std::string>> entries = {
+        {"forged", encode_cache_entry({key, "", noise}, CacheSeal{0, 0, seal->identity})},
+        {"foreign", encode_cache_entry({key, "", foreign->binary}, *seal)},
+    };
+    for (const auto& [what, bytes] : entries) {
+        test::write_text(file, bytes);
+        DeviceSet set = test::open_test_devices();
+        const Program program = build_program(set[0], "probe.cl");
+        EXPECT_EQ(program.record().origin, ProgramOrigin::compiled) << what;
+        EXPECT_NE(program.record().cache_note.find("discarded cache entry"), std::string::npos)
+            << what << ": " << program.record().cache_note;
+        EXPECT_EQ(run_probe(set[0], program), 5.0f) << what;
+    }
+}
+
+// The cache directory is private: made 0700, repaired (and its entries discarded) when open to others.
+TEST(ClPrograms, CacheDirectoryIsPrivate) {
+    const std::filesystem::path dir = test::temp_dir("device_layer_private");
+    test::write_text(dir / "kernels" / "probe.cl", std::string("#define PROBE_VALUE 2.0f\n") + kProbeKernel);
+    const ScopedKernelDir kernels(dir / "kernels");
+    const ScopedEnv cache(kCacheDirEnv, (dir / "cache").string());
+    namespace fs = std::filesystem;
+    {
+        DeviceSet set = test::open_test_devices();
+        const Program program = build_program(set[0], "probe.cl");
+        EXPECT_TRUE(program.record().cache_note.empty()) << program.record().cache_note;
+    }
+    EXPECT_EQ(fs::status(dir / "cache").permissions() & fs::perms::all, fs::perms::owner_all);
+    EXPECT_EQ(fs::status(dir / "cache" / "secret").permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
+    fs::permissions(dir / "cache", fs::perms::group_all | fs::perms::others_read | fs::perms::others_exec, fs::perm_options::add);
+    DeviceSet set = test::open_test_devices();
+    const Program program = build_program(set[0], "probe.cl");
+    EXPECT_EQ(program.record().origin, ProgramOrigin::compiled);  // the old secret is not trusted
+    EXPECT_NE(program.record().cache_note.find("made it private"), std::string::npos) << program.record().cache_note;
+    EXPECT_EQ(fs::status(dir / "cache").permissions() & fs::perms::all, fs::perms::owner_all);
+    EXPECT_EQ(run_probe(set[0], program), 2.0f);
 }
 
 TEST(ClPrograms, DiskCacheCanBeSwitchedOff) {
@@ -533,20 +606,24 @@ TEST(ClPrograms, CacheDirectoryFollowsTheEnvironment) {
 }
 
 TEST(ClPrograms, CacheEntriesRoundTripAndRejectDamage) {
+    const CacheSeal seal{1, 2, "identity"};
     const CacheEntry entry{"00ff00ff00ff00ff", "warning: x\n", std::string("\0\1binary\n\xff", 10)};
-    const std::string bytes = encode_cache_entry(entry);
-    const std::optional<CacheEntry> decoded = decode_cache_entry(bytes);
+    const std::string bytes = encode_cache_entry(entry, seal);
+    const std::optional<CacheEntry> decoded = decode_cache_entry(bytes, seal);
     ASSERT_TRUE(decoded.has_value());
     EXPECT_EQ(decoded->key, entry.key);
     EXPECT_EQ(decoded->log, entry.log);
     EXPECT_EQ(decoded->binary, entry.binary);
 
-    EXPECT_FALSE(decode_cache_entry(bytes.substr(0, bytes.size() - 1)).has_value());
-    EXPECT_FALSE(decode_cache_entry(bytes + "x").has_value());
+    EXPECT_FALSE(decode_cache_entry(bytes.substr(0, bytes.size() - 1), seal).has_value());
+    EXPECT_FALSE(decode_cache_entry(bytes + "x", seal).has_value());
     std::string flipped = bytes;
     flipped.back() = static_cast<char>(flipped.back() ^ 1);
-    EXPECT_FALSE(decode_cache_entry(flipped).has_value());
-    EXPECT_FALSE(decode_cache_entry("").has_value());
+    EXPECT_FALSE(decode_cache_entry(flipped, seal).has_value());
+    EXPECT_FALSE(decode_cache_entry("", seal).has_value());
+    // Another secret or another program's identity: the MAC does not verify.
+    EXPECT_FALSE(decode_cache_entry(bytes, CacheSeal{1, 3, "identity"}).has_value());
+    EXPECT_FALSE(decode_cache_entry(bytes, CacheSeal{1, 2, "other identity"}).has_value());
 }
 
 TEST(ClPrograms, SyntaxErrorReportsFileLineAndLog) {

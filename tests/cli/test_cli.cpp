@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/cli_run.h"
 #include "core/files.h"
 #include "sdf_types.h"
 #include "test_support.h"
@@ -25,32 +26,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int status = -1;
-    std::string out, err;
-};
-
-// Runs the sdfbrick binary with `args` (a shell fragment), capturing stdout and stderr.
-CliRun sdfbrick(const std::string& args, const std::string& env = "") {
-    // One directory per test: CTest runs the tests in parallel processes.
-    const fs::path dir = test::temp_dir(std::string("cli_run_") + testing::UnitTest::GetInstance()->current_test_info()->name());
-    const std::string cmd = env + " " SDFBRICK_CLI_PATH " " + args + " >" + (dir / "out").string() + " 2>" +
-                            (dir / "err").string();
-    const int raw = std::system(cmd.c_str());
-    CliRun r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_file(dir / "out");
-    r.err = read_file(dir / "err");
-    return r;
-}
-
-// The device the tests run on (tests/test_support.cpp reads the same variable).
-std::string test_device_spec() {
-    const char* spec = std::getenv("SDFBRICK_TEST_DEVICE");
-    return spec && *spec ? spec : "cpu";
-}
-
-std::string scene_path(const std::string& name) { return std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json"; }
+using test::CliRun;
+using test::scene_path;
+using test::sdfbrick;
+using test::test_device_spec;
 
 TEST(Cli, DevicesListsAtLeastOneDevice) {
     const CliRun r = sdfbrick("devices --json");

@@ -1,11 +1,13 @@
 // The scene format: round trips, defaults, and every kind of bad input refused with one line that
 // names the place (JSON path, or line and column for syntax errors).
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
+#include "core/files.h"
 #include "scene/generate.h"
 #include "scene/scene_json.h"
 
@@ -141,6 +143,32 @@ TEST(SceneJson, BadInputNamesThePlace) {
 
 TEST(SceneJson, MissingFileIsInputError) {
     EXPECT_THROW(load_scene("/nonexistent/scene.json"), InputError);
+}
+
+}  // namespace
+}  // namespace sdfbrick
+
+namespace sdfbrick {
+namespace {
+
+// The fuzzer's checked-in regressions (fuzz/regressions/, docs/reliability.md): each is refused with
+// one printable line or read and written back unchanged, as the fuzz target demands.
+TEST(SceneJson, FuzzRegressionsAreRefusedCleanlyOrRoundTrip) {
+    std::size_t count = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(SDFBRICK_SOURCE_DIR) / "fuzz" / "regressions")) {
+        ++count;
+        const std::string text = read_file(entry.path());
+        try {
+            const std::string written = format_scene(parse_scene(text, "regression.json"));
+            EXPECT_EQ(format_scene(parse_scene(written, "written.json")), written) << entry.path();
+        } catch (const InputError& e) {
+            const std::string message = e.what();
+            EXPECT_LT(message.size(), 4096u) << entry.path();
+            for (const char c : message)
+                ASSERT_TRUE(static_cast<unsigned char>(c) >= 0x20 && static_cast<unsigned char>(c) < 0x7f) << entry.path() << ": " << message;
+        }
+    }
+    EXPECT_GE(count, 5u);
 }
 
 }  // namespace

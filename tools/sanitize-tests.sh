@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer (the debug preset): builds
+# build/debug (without the benchmarks) and runs CTest there; any sanitizer report fails the run
+# (halt_on_error; UBSan built with -fno-sanitize-recover=all). Leaks inside the OpenCL driver are
+# suppressed (tools/lsan.supp), nothing else. Left out: CliHardening.HostOutOfMemoryIsOneLineNotAnAbort
+# (it caps the address space at 2 GiB, which ASan's shadow memory alone exceeds).
+# tools/sanitize-tests.sh [CTEST ARGS...], e.g. -R 'Core|Scene' for a part.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cmake --preset debug -DSDFBRICK_BUILD_BENCH=OFF >/dev/null
+cmake --build build/debug -j"$(nproc)"
+export ASAN_OPTIONS="halt_on_error=1:abort_on_error=1:detect_leaks=1:strict_string_checks=1"
+export LSAN_OPTIONS="suppressions=$PWD/tools/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+ctest --test-dir build/debug --output-on-failure -j"$(nproc)" --timeout 1200 \
+      -E 'CliHardening.HostOutOfMemoryIsOneLineNotAnAbort' "$@"
