@@ -441,6 +441,8 @@ construct::GeometryBuild upload(const HostBuild& h, ocl::Device& d) {
     b.origin = m.origin;
     b.leaf_size = m.leaf_size;
     b.levels = m.levels;
+    b.branching = m.branching;
+    b.coarsest_leaf_level = m.coarsest_leaf_level;
     b.clamp_c = m.clamp_c;
     b.band = m.band;
     b.level_reports = m.level_reports;
@@ -456,6 +458,9 @@ construct::GeometryBuild upload(const HostBuild& h, ocl::Device& d) {
     b.leaf_edit_indices = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(h.lists));
     b.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(d, std::span<const std::uint8_t>(h.pool));
     b.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(d, std::span<const SdfBounds>(h.aabbs));
+    // Split builds are uniform (adaptive ones refuse a split): every leaf has the finest voxel.
+    const std::vector<cl_uint> shifts(h.leaves.size(), 0u);
+    b.shifts = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(shifts));
     return b;
 }
 
