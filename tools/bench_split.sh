@@ -26,7 +26,7 @@ for config in "$@"; do
     for scene in $scenes; do
         for verb in build render; do
             extra=""
-            [[ $verb == render ]] && extra="--width $width --height $height --out $out/$scene-$n.png"
+            [[ $verb == render ]] && extra="--width $width --height $height --out $out/$scene-$n.ppm"
             for round in seed measured; do  # the first run stores the rates that balance the second
                 eval "env $envs SDFBRICK_RATES=$out/rates-$scene-$n.json" "$bin" --device "$devices" --devices split \
                     $verb "scenes/$scene.json" --brick-size "$brick" --warmup 1 $extra \
