@@ -12,6 +12,7 @@
 
 #include "core/files.h"
 #include "exchange/vdb.h"
+#include "cli/cli_run.h"
 #include "test_support.h"
 
 namespace sdfbrick {
@@ -19,17 +20,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
+using Result = test::CliRun;
 
-Result sdfbrick(const std::string& args, const fs::path& dir) {
-    const char* spec = std::getenv("SDFBRICK_TEST_DEVICE");
-    const std::string cmd = std::string("SDFBRICK_DEVICE=") + (spec && *spec ? spec : "cpu") + " " SDFBRICK_CLI_PATH " " +
-                            args + " >" + (dir / "stdout").string() + " 2>" + (dir / "stderr").string();
-    const int raw = std::system(cmd.c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read_file(dir / "stdout"), read_file(dir / "stderr")};
+// The CLI on the test device.
+Result sdfbrick(const std::string& args) {
+    return test::sdfbrick(args, "SDFBRICK_DEVICE=" + test::test_device_spec());
 }
 
 const std::string kSpheres = std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json";
@@ -40,8 +35,7 @@ TEST(CliExchange, ExportWritesTheFormatsBuiltInAndAReport) {
     const bool nanovdb = exchange::vdb_available(exchange::VdbFormat::nanovdb);
     const std::string vdb = " --vdb " + (dir / "s.vdb").string(), nvdb = " --nvdb " + (dir / "s.nvdb").string();
     const Result r = sdfbrick("export " + kSpheres + " --brick-size 0.125" + (openvdb ? vdb : "") + (nanovdb ? nvdb : "") +
-                                  " --json " + (dir / "r.json").string(),
-                              dir);
+                                  " --json " + (dir / "r.json").string());
     if (!openvdb && !nanovdb) {
         EXPECT_EQ(r.status, 2);  // neither flag given
     } else {
@@ -58,7 +52,7 @@ TEST(CliExchange, ExportWritesTheFormatsBuiltInAndAReport) {
     // A format not built in is refused in one line naming its package, before any work.
     for (const auto& [available, flag, package] : {std::tuple(openvdb, vdb, "libopenvdb-dev"), std::tuple(nanovdb, nvdb, "libnanovdb-dev")}) {
         if (available) continue;
-        const Result refused = sdfbrick("export " + kSpheres + flag, dir);
+        const Result refused = sdfbrick("export " + kSpheres + flag);
         EXPECT_EQ(refused.status, 2);
         EXPECT_NE(refused.err.find(package), std::string::npos) << refused.err;
     }
@@ -68,8 +62,7 @@ TEST(CliExchange, SampleWritesDistancesAndRefusesBadPoints) {
     const fs::path dir = test::temp_dir("cli_sample");
     test::write_text(dir / "p.csv", "x,y,z\n0,0,0\n1,0,0\n50,50,50\n");
     const Result r = sdfbrick("sample " + kSpheres + " --brick-size 0.125 --points " + (dir / "p.csv").string() +
-                                  " -o " + (dir / "out.csv").string(),
-                              dir);
+                                  " -o " + (dir / "out.csv").string());
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string csv = read_file(dir / "out.csv");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
@@ -77,13 +70,12 @@ TEST(CliExchange, SampleWritesDistancesAndRefusesBadPoints) {
 
     test::write_text(dir / "bad.csv", "1,2,3\n4,5\n");
     const Result bad = sdfbrick("sample " + kSpheres + " --points " + (dir / "bad.csv").string() + " -o " +
-                                    (dir / "bad-out.csv").string(),
-                                dir);
+                                    (dir / "bad-out.csv").string());
     EXPECT_EQ(bad.status, 2);
     EXPECT_NE(bad.err.find("bad.csv: line 2"), std::string::npos) << bad.err;
     EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
     EXPECT_FALSE(fs::exists(dir / "bad-out.csv"));
-    EXPECT_EQ(sdfbrick("export " + kSpheres, dir).status, 2);  // no output named
+    EXPECT_EQ(sdfbrick("export " + kSpheres).status, 2);  // no output named
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/files.h"
+#include "cli/cli_run.h"
 #include "test_support.h"
 
 namespace sdfbrick {
@@ -20,10 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int status = -1;
-    std::string out, err;
-};
+using test::CliRun;
 
 // Two one-core PoCL devices, a rate store in dir, and `extra` environment (which may turn the store off).
 std::string two_devices(const fs::path& dir, const std::string& extra = "") {
@@ -31,26 +29,16 @@ std::string two_devices(const fs::path& dir, const std::string& extra = "") {
                        (dir / "rates.json").string(), extra);
 }
 
-CliRun sdfbrick(const fs::path& dir, const std::string& env, const std::string& args) {
-    const std::string cmd = env + " " SDFBRICK_CLI_PATH " " + args + " >" + (dir / "out").string() + " 2>" +
-                            (dir / "err").string();
-    const int raw = std::system(cmd.c_str());
-    CliRun r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_file(dir / "out");
-    r.err = read_file(dir / "err");
-    return r;
-}
 
 nlohmann::json run_json(const fs::path& dir, const std::string& env, const std::string& args) {
     const fs::path report = dir / "r.json";
     fs::remove(report);
-    const CliRun r = sdfbrick(dir, env, args + " --json " + report.string());
+    const CliRun r = test::sdfbrick(args + " --json " + report.string(), env);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
     return r.status == 0 ? nlohmann::json::parse(read_file(report)) : nlohmann::json::object();
 }
 
-std::string scene_path(const std::string& name) { return std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json"; }
+using test::scene_path;
 
 // Two geometries (so that every geometry's parts are merged), three objects.
 fs::path two_geometry_scene(const fs::path& dir) {
@@ -170,9 +158,9 @@ TEST(PipelineSplit, DeviceFaultGivesTheSameBits) {
 
 TEST(PipelineSplit, FaultOnEveryDeviceIsOneClearError) {
     const fs::path dir = test::temp_dir("split_fault_all");
-    const CliRun r = sdfbrick(dir, two_devices(dir, "SDFBRICK_FAULT=launch@0:3,launch@1:5"),
-                              "--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " +
-                                  (dir / "p.ppm").string() + " --json " + (dir / "r.json").string());
+    const CliRun r = test::sdfbrick("--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " +
+                                        (dir / "p.ppm").string() + " --json " + (dir / "r.json").string(),
+                                    two_devices(dir, "SDFBRICK_FAULT=launch@0:3,launch@1:5"));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("every device failed"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -184,10 +172,10 @@ TEST(PipelineSplit, BadInputNamesTheFlag) {
     const fs::path dir = test::temp_dir("split_bad");
     const std::string env = two_devices(dir);
     const std::string build = " build " + scene_path("spheres") + " --brick-size 0.125";
-    const CliRun mode = sdfbrick(dir, env, "--devices halves" + build);
+    const CliRun mode = test::sdfbrick("--devices halves" + build, env);
     EXPECT_EQ(mode.status, 2);
     EXPECT_NE(mode.err.find("--devices"), std::string::npos) << mode.err;
-    const CliRun twice = sdfbrick(dir, env, "--device 0,cpu --devices split" + build);
+    const CliRun twice = test::sdfbrick("--device 0,cpu --devices split" + build, env);
     EXPECT_EQ(twice.status, 2);
     EXPECT_NE(twice.err.find("--device: device 0"), std::string::npos) << twice.err;
 }
