@@ -16,8 +16,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
                       ->check(finite_number())
                       ->capture_default_str();
     tolerance_ = cmd->add_option("--tolerance", s.tolerance,
-                                      "adaptive leaves: a brick is a leaf at the coarsest level whose samples "
-                                      "reproduce the field within this distance (geometry units; default: uniform)")
+                                 "adaptive leaves: a brick is a leaf at the coarsest level whose samples reproduce "
+                                 "the field within this distance (geometry units; default: uniform)")
                      ->check(finite_number());
     cmd->add_option("--tolerance-voxels", tolerance_voxels, "--tolerance in voxels of the finest brick")
         ->check(finite_number())
