@@ -237,10 +237,10 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
     bool first_round = true;
     while (!pending.empty()) {
         if (std::none_of(lanes.begin(), lanes.end(), [](const Lane& l) { return l.alive(); })) throw_all_failed(lanes);
-        std::vector<std::vector<Interval>> todo(lanes.size()), lost(lanes.size());
+        std::vector<std::vector<Interval>> assigned(lanes.size()), lost(lanes.size());
         for (const Interval& iv : pending)
             for (const auto& [lane, part] : divide(iv, lanes, weights)) {
-                todo[lane].push_back(part);
+                assigned[lane].push_back(part);
                 if (first_round) report.devices[lane].planned += part.width();
             }
         first_round = false;
@@ -248,9 +248,9 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
         std::vector<std::vector<Part<Result>>> got(lanes.size());
         std::vector<std::thread> threads;
         for (std::size_t i = 0; i < lanes.size(); ++i) {
-            if (todo[i].empty()) continue;
+            if (assigned[i].empty()) continue;
             threads.emplace_back([&, i] {
-                for (const Interval& iv : todo[i]) {
+                for (const Interval& iv : assigned[i]) {
                     if (!lanes[i].alive()) {
                         lost[i].push_back(iv);
                         continue;
