@@ -37,6 +37,17 @@ namespace {
 // Prepended to every program source; the one place where contraction is switched off.
 constexpr std::string_view kSourcePrologue = "#pragma OPENCL FP_CONTRACT OFF\n";
 
+// PoCL's CPU drivers keep one process-wide cache of loaded kernel binaries, keyed by the program's
+// hash, and (PoCL 3) release an entry found by hash and work-group size alone: when two PoCL devices
+// run the same kernel at once with different launch specialisations (global offset zero or not, a
+// small grid or not), one device's release can hit the other's entry and PoCL aborts. An empty
+// kernel named after the device makes every PoCL device's program (and so its hash) its own; the
+// kernels themselves are unchanged.
+std::string device_marker(const DeviceInfo& info) {
+    if (info.platform_name != "Portable Computing Language") return "";
+    return fmt::format("\n__kernel void sdfbrick_device_{}(void) {{}}\n", info.index);
+}
+
 // Part of every key and every cache entry: changing the entry format or the build rules changes it.
 constexpr std::string_view kCacheFormat = "sdfbrick program cache 2";
 
@@ -371,7 +382,7 @@ ProgramInputs program_inputs(const Device& device, std::string_view kernel_file,
         record.options += ' ';
         record.options += extra_options;
     }
-    in.source = std::string(kSourcePrologue) + load_kernel_source(kernel_file);
+    in.source = std::string(kSourcePrologue) + load_kernel_source(kernel_file) + device_marker(info);
     for (std::string_view part : {kCacheFormat, std::string_view(info.platform_name),
                                   std::string_view(info.platform_version), std::string_view(info.name),
                                   std::string_view(info.driver_version), std::string_view(info.device_version),
