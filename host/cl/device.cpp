@@ -180,6 +180,7 @@ DeviceInfo query_device(cl_device_id id, std::size_t index) {
     info.type = type_name(q.value<cl_device_type>(CL_DEVICE_TYPE, "type"));
     info.compute_units = q.value<cl_uint>(CL_DEVICE_MAX_COMPUTE_UNITS, "compute unit count");
     info.max_clock_mhz = q.value<cl_uint>(CL_DEVICE_MAX_CLOCK_FREQUENCY, "clock frequency");
+    info.native_float_width = q.value<cl_uint>(CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT, "native float vector width");
     info.global_mem_bytes = q.value<cl_ulong>(CL_DEVICE_GLOBAL_MEM_SIZE, "global memory size");
     info.max_alloc_bytes = q.value<cl_ulong>(CL_DEVICE_MAX_MEM_ALLOC_SIZE, "largest allocation size");
     info.local_mem_bytes = q.value<cl_ulong>(CL_DEVICE_LOCAL_MEM_SIZE, "local memory size");
@@ -376,6 +377,7 @@ nlohmann::json DeviceInfo::to_json() const {
         {"type", type},
         {"compute_units", compute_units},
         {"max_clock_mhz", max_clock_mhz},
+        {"native_float_width", native_float_width},
         {"global_mem_bytes", global_mem_bytes},
         {"max_alloc_bytes", max_alloc_bytes},
         {"local_mem_bytes", local_mem_bytes},

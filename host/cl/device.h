@@ -39,6 +39,7 @@ struct DeviceInfo {
 
     std::uint32_t compute_units = 0;
     std::uint32_t max_clock_mhz = 0;
+    std::uint32_t native_float_width = 0;  // CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT: SIMD lanes of a CPU core
     std::uint64_t global_mem_bytes = 0;
     std::uint64_t max_alloc_bytes = 0;
     std::uint64_t local_mem_bytes = 0;

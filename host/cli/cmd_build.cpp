@@ -115,6 +115,7 @@ DeviceBuildReport build_on(ocl::Device& device, const Scene& scene, const BuildO
 
 // --devices split: one build shared by the devices.
 void run_build_split(const BuildOptions& o, const GlobalOptions& global, const Scene& scene) {
+    refuse_split_repeat(o.measure);
     SplitDevices d = open_split_devices(global);
     const TuningChoice tuning = open_tuning(global);
     pipeline::SplitSpec spec;
@@ -139,7 +140,7 @@ void run_build_split(const BuildOptions& o, const GlobalOptions& global, const S
 }
 
 void run_build(const BuildOptions& o, const GlobalOptions& global) {
-    apply_global_options(global);
+    apply_global_options(global, true);
     const pipeline::DeviceMode mode = device_mode(global);
     BuildReport report;
     report.settings = o.flags.resolve();

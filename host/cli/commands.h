@@ -26,7 +26,8 @@ struct GlobalOptions {
 };
 
 // Applies options that change library state (kernel directory). Verbs that use a device call it.
-void apply_global_options(const GlobalOptions& global);
+// splits: whether the verb can share its job among devices (--devices split); others refuse it.
+void apply_global_options(const GlobalOptions& global, bool splits = false);
 
 // The tuning database a run reads (and `tune` writes): --tuning-db, else the default path; no
 // database with --no-tuning or when the default is off. A missing file is an empty database.

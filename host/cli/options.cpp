@@ -40,8 +40,10 @@ std::string setting_error_line(const CLI::App& app, const SettingError& e) {
     return flag ? *flag + ": " + e.what() : std::string(e.what());
 }
 
-void apply_global_options(const GlobalOptions& global) {
+void apply_global_options(const GlobalOptions& global, bool splits) {
     if (global.kernel_dir) ocl::set_kernel_dir(std::filesystem::path(*global.kernel_dir));
+    if (device_mode(global) == pipeline::DeviceMode::split && !splits)
+        throw InputError("--devices split: only build and render share one job among devices");
 }
 
 TuningChoice open_tuning(const GlobalOptions& global) {

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "cl/cl_error.h"
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
@@ -89,7 +90,8 @@ nlohmann::json to_json(const StageSplit& s) {
     for (const DeviceShare& d : s.devices)
         devices.push_back({{"device", d.device}, {"name", d.name}, {"planned", d.planned}, {"done", d.done},
                            {"busy_ms", d.busy_ms}, {"idle_ms", d.idle_ms}, {"rate", d.rate},
-                           {"failure", d.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.failure)}});
+                           {"failure", d.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.failure)},
+                           {"limit", d.limit.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.limit)}});
     return {{"stage", s.stage}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
             {"fastest_single_ms_estimated", s.fastest_single_ms()}, {"speedup_estimated", s.speedup()},
             {"devices", devices}};
@@ -102,6 +104,7 @@ std::string to_text(const StageSplit& s) {
     for (const DeviceShare& d : s.devices) {
         text += fmt::format("  device {} [{}]: planned {:.1f}%, done {:.1f}%, busy {:.1f} ms, idle at end {:.1f} ms",
                             d.device, d.name, 100.0 * d.planned, 100.0 * d.done, d.busy_ms, d.idle_ms);
+        if (!d.limit.empty()) text += fmt::format("; smaller parts: {}", d.limit);
         text += d.failure.empty() ? "\n" : fmt::format("; FAILED: {}\n", d.failure);
     }
     return text;
@@ -163,6 +166,7 @@ struct Lane {
     std::optional<render::SceneBricks> traced;
     std::string failure;
     std::exception_ptr error;
+    double cap = 1.0;  // the widest part it may take: less after it could not hold one
 
     bool alive() const { return failure.empty(); }
 };
@@ -199,6 +203,9 @@ struct Part {
 // H200 with PoCL beside it: shares of 4-6% made the split 30-48% slower than the GPU alone.
 constexpr double kMinShare = 0.10;
 
+// The narrowest part a device out of memory is given before it leaves the run.
+constexpr double kMinPart = 1.0 / 64;
+
 // Splits iv among the live lanes in proportion to their weights.
 std::vector<std::pair<std::size_t, Interval>> divide(Interval iv, const std::vector<Lane>& lanes,
                                                      const std::vector<double>& weights) {
@@ -224,6 +231,28 @@ std::vector<std::pair<std::size_t, Interval>> divide(Interval iv, const std::vec
     return out;
 }
 
+// Whether e says that a device could not hold what it was given: a smaller part may fit.
+bool out_of_memory(const std::exception& e) {
+    const auto* cl = dynamic_cast<const ocl::ClError*>(&e);
+    return cl && (cl->code() == CL_MEM_OBJECT_ALLOCATION_FAILURE || cl->code() == CL_INVALID_BUFFER_SIZE ||
+                  cl->code() == CL_OUT_OF_HOST_MEMORY);
+}
+
+// A lane's part iv threw e: a lane out of memory takes parts of at most half the width from now on
+// (down to kMinPart), any other failure takes the lane out of the run.
+void could_not_run(Lane& lane, DeviceShare& share, Interval iv, const std::exception& e) {
+    if (out_of_memory(e) && iv.width() / 2 >= kMinPart) {
+        lane.cap = iv.width() / 2;
+        share.limit = fmt::format("could not hold {:.1f}% of the stage ({}); parts of at most {:.1f}% since",
+                                  100.0 * iv.width(), e.what(), 100.0 * lane.cap);
+        return;
+    }
+    lane.failure = out_of_memory(e) ? fmt::format("could not hold even {:.1f}% of the stage: {}", 100.0 * iv.width(),
+                                                  e.what())
+                                    : e.what();
+    lane.error = std::current_exception();
+}
+
 // Runs the whole stage [0, 1) over the lanes, one thread each, in proportion to weights: fn(lane,
 // interval) does one part. A lane whose part throws leaves the run; what it had not done is divided
 // among the lanes left, until everything is done. Returns the parts in order of their fractions.
@@ -234,6 +263,7 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
     std::vector<Part<Result>> done;
     std::vector<Interval> pending{{0.0, 1.0}};
     std::vector<double> last_end(lanes.size(), 0.0);
+    for (Lane& l : lanes) l.cap = 1.0;  // what a device could not hold in another stage may fit in this one
     bool first_round = true;
     while (!pending.empty()) {
         if (std::none_of(lanes.begin(), lanes.end(), [](const Lane& l) { return l.alive(); })) throw_all_failed(lanes);
@@ -250,18 +280,21 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
         for (std::size_t i = 0; i < lanes.size(); ++i) {
             if (assigned[i].empty()) continue;
             threads.emplace_back([&, i] {
-                for (const Interval& iv : assigned[i]) {
+                for (Interval iv : assigned[i]) {
                     if (!lanes[i].alive()) {
                         lost[i].push_back(iv);
                         continue;
+                    }
+                    if (iv.width() > lanes[i].cap) {  // the rest goes to the next round
+                        lost[i].push_back({iv.f0 + lanes[i].cap, iv.f1});
+                        iv.f1 = iv.f0 + lanes[i].cap;
                     }
                     const auto t0 = Clock::now();
                     try {
                         got[i].push_back({iv, fn(lanes[i], iv)});
                         report.devices[i].done += iv.width();
                     } catch (const std::exception& e) {
-                        lanes[i].failure = e.what();
-                        lanes[i].error = std::current_exception();
+                        could_not_run(lanes[i], report.devices[i], iv, e);
                         lost[i].push_back(iv);
                     }
                     report.devices[i].busy_ms += ms_since(t0);
@@ -285,6 +318,19 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
     return done;
 }
 
+// FP32 lanes per compute unit, roughly: a CPU core's SIMD width; a GPU compute unit's by vendor
+// (four 32-wide warp schedulers per NVIDIA multiprocessor, 16-lane SIMDs on AMD), else 32.
+double lanes_per_unit(const ocl::DeviceInfo& d) {
+    if (d.type != "gpu") return std::max(1u, d.native_float_width);
+    if (d.nv_warp_size) return 4.0 * *d.nv_warp_size;
+    if (d.amd_simd_per_compute_unit) return 16.0 * *d.amd_simd_per_compute_unit;
+    return 32.0;
+}
+
+double static_estimate(const ocl::DeviceInfo& d) {
+    return std::max(1.0, double(d.compute_units) * std::max(1u, d.max_clock_mhz) * lanes_per_unit(d));
+}
+
 // The stage's weights per lane: measured rates when the store has one for every device, else
 // compute units x clock.
 std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStore* rates, StageSplit& report) {
@@ -296,10 +342,9 @@ std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStor
     }
     report.basis = "measured rates";
     if (w.size() == lanes.size()) return w;
-    report.basis = "static estimate (compute units x clock)";
+    report.basis = kStaticBasis;
     w.clear();
-    for (const Lane& l : lanes)
-        w.push_back(std::max(1.0, double(l.device->info().compute_units) * std::max(1u, l.device->info().max_clock_mhz)));
+    for (const Lane& l : lanes) w.push_back(static_estimate(l.device->info()));
     return w;
 }
 
@@ -499,6 +544,20 @@ std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& sc
 
 // ---- tracing ----
 
+// The lane's own copy of the merged bricks, ready to trace. Every band needs all of it, so a device
+// that cannot hold it leaves the run instead of taking smaller bands.
+render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vector<HostBuild>& merged,
+                                const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
+    try {
+        render::SceneBricks b = upload_scene(merged, settings, *lane.device);
+        render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
+        return b;
+    } catch (const std::exception& e) {
+        if (!out_of_memory(e)) throw;
+        throw std::runtime_error(fmt::format("cannot hold the merged bricks and their BVH: {}", e.what()));
+    }
+}
+
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
 render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, const std::vector<HostBuild>& merged,
                                 const SplitSpec& spec, const RateStore* basis, StageSplit& report) {
@@ -517,11 +576,7 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
     auto parts = run_shared<render::TraceResult>(lanes, weights, report, [&](Lane& lane, Interval iv) {
         if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
         measure::Scheduler scheduler(*lane.device);
-        if (!lane.traced) {
-            render::SceneBricks b = upload_scene(merged, spec.build[lane.slot], *lane.device);
-            render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
-            lane.traced = std::move(b);
-        }
+        if (!lane.traced) lane.traced = traced_copy(lane, scene, merged, spec.build[lane.slot], scheduler);
         const auto [a, b] = covered(prefix, iv);
         const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
         return lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot], scheduler, rows);

@@ -3,8 +3,10 @@
 // descendants of a range of every geometry's split-level bricks (construct::Subtrees), the leaves
 // are concatenated in range order. Trace: each device traces a band of image rows against its own
 // copy of the merged bricks. Shares come from each device's measured rate for the stage (a
-// RateStore), or from a static estimate when a device has none. A device whose share throws is out
-// of the run; its share is split among the devices left; when none is left the run throws.
+// RateStore), or from a static estimate when a device has none. A device that cannot hold its part
+// (out of memory) gets parts of at most half that size, down to kMinPart; a device whose part throws
+// otherwise is out of the run; what it had not done is split among the devices left; when none is
+// left the run throws.
 #pragma once
 
 #include <cstddef>
@@ -52,6 +54,9 @@ private:
     nlohmann::json data_ = nlohmann::json::object();
 };
 
+// The basis of a stage split before every device has a measured rate.
+inline constexpr const char* kStaticBasis = "static estimate (compute units x clock x FP32 lanes)";
+
 // One device's part of one split stage.
 struct DeviceShare {
     std::size_t device = 0;  // global index
@@ -62,12 +67,13 @@ struct DeviceShare {
     double idle_ms = 0.0;   // from the end of its last share to the end of the stage
     double rate = 0.0;      // work units per ms it reached (0 when it did nothing)
     std::string failure;    // why it left the run ("" when it did not)
+    std::string limit;      // why its parts were made smaller ("" when they were not)
 };
 
 // One split stage: "construct" (units: edit-list entries of the split level) or "trace" (pixels).
 struct StageSplit {
     std::string stage;
-    std::string basis;  // "measured rates" or "static estimate (compute units x clock)"
+    std::string basis;  // "measured rates" or kStaticBasis
     double work = 0.0;  // units in all
     double wall_ms = 0.0;
     std::vector<DeviceShare> devices;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/files.h"
+#include "pipeline/split.h"
 #include "cli/cli_run.h"
 #include "test_support.h"
 
@@ -100,7 +101,7 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     const std::string env = two_devices(dir);
     const std::string args = "--device cpu --devices split render " + scene_path("spheres") + kRender;
     const nlohmann::json first = run_json(dir, env, args);
-    EXPECT_EQ(first["construct"]["basis"], "static estimate (compute units x clock)");
+    EXPECT_EQ(first["construct"]["basis"], pipeline::kStaticBasis);
     EXPECT_NEAR(first["construct"]["devices"][0]["planned"].get<double>(), 0.5, 1e-9);
     nlohmann::json store = nlohmann::json::parse(read_file(dir / "rates.json"));
     ASSERT_EQ(store.size(), 2u);
@@ -158,6 +159,31 @@ TEST(PipelineSplit, DeviceFaultGivesTheSameBits) {
     }
 }
 
+// A device out of memory for its part takes parts of half the width, and leaves the run when even
+// a sixty-fourth of the stage does not fit; the report says why, and the bits stay the same.
+TEST(PipelineSplit, DeviceThatCannotHoldItsShareGetsLess) {
+    const fs::path dir = test::temp_dir("split_memory");
+    const std::string args = "--device cpu --devices split build " + scene_path("drops") + " --brick-size 0.25";
+    const nlohmann::json clean = run_json(dir, two_devices(dir, "SDFBRICK_RATES=off"), args);
+    const nlohmann::json once = run_json(dir, two_devices(dir, "SDFBRICK_RATES=off SDFBRICK_FAULT=alloc@1:1"), args);
+    EXPECT_EQ(once["brick_digest"], clean["brick_digest"]);
+    const auto& shares = once["construct"]["devices"];
+    EXPECT_TRUE(shares[1]["failure"].is_null()) << shares;
+    ASSERT_TRUE(shares[1]["limit"].is_string()) << shares;
+    EXPECT_NE(shares[1]["limit"].get<std::string>().find("could not hold 50.0%"), std::string::npos) << shares;
+    EXPECT_NEAR(shares[1]["done"].get<double>(), 0.25, 1e-12);
+    EXPECT_NEAR(shares[0]["done"].get<double>(), 0.75, 1e-12);
+    std::string every = "SDFBRICK_RATES=off SDFBRICK_FAULT=";
+    for (int n = 1; n <= 6; ++n) every += fmt::format("{}alloc@1:{}", n > 1 ? "," : "", n);
+    const nlohmann::json never = run_json(dir, two_devices(dir, every), args);
+    EXPECT_EQ(never["brick_digest"], clean["brick_digest"]);
+    const auto& gone = never["construct"]["devices"];
+    ASSERT_TRUE(gone[1]["failure"].is_string()) << gone;
+    EXPECT_NE(gone[1]["failure"].get<std::string>().find("could not hold even 1.6%"), std::string::npos) << gone;
+    EXPECT_EQ(gone[1]["done"].get<double>(), 0.0);
+    EXPECT_EQ(gone[0]["done"].get<double>(), 1.0);
+}
+
 TEST(PipelineSplit, FaultOnEveryDeviceIsOneClearError) {
     const fs::path dir = test::temp_dir("split_fault_all");
     const CliRun r = test::sdfbrick("--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " +
@@ -180,6 +206,12 @@ TEST(PipelineSplit, BadInputNamesTheFlag) {
     const CliRun twice = test::sdfbrick("--device 0,cpu --devices split" + build, env);
     EXPECT_EQ(twice.status, 2);
     EXPECT_NE(twice.err.find("--device: device 0"), std::string::npos) << twice.err;
+    const CliRun repeat = test::sdfbrick("--device cpu --devices split" + build + " --repeat 3", env);
+    EXPECT_EQ(repeat.status, 2);
+    EXPECT_NE(repeat.err.find("--repeat"), std::string::npos) << repeat.err;
+    const CliRun other = test::sdfbrick("--device cpu --devices split eval " + scene_path("spheres") + " --size 8", env);
+    EXPECT_EQ(other.status, 2);
+    EXPECT_NE(other.err.find("only build and render"), std::string::npos) << other.err;
 }
 
 }  // namespace
