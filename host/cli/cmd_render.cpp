@@ -17,6 +17,7 @@
 #include "core/hash.h"
 #include "core/stats.h"
 #include "reference/accuracy.h"
+#include "render/seams.h"
 #include "render/brick_tracer.h"
 #include "render/pictures.h"
 #include "pipeline/report.h"
@@ -98,6 +99,7 @@ struct BrickRender {
     pipeline::RenderFigures figures;
     std::optional<TreeCheck> tree;                       // several devices
     std::optional<reference::AccuracyMetrics> accuracy;  // --compare
+    std::optional<render::SeamMismatches> seams;         // --compare of an adaptive build
 };
 
 // One device's part of the render report.
@@ -162,6 +164,7 @@ nlohmann::json to_json(const DeviceRenderReport& d) {
             j["bvh_valid"] = b.tree->problems.empty();
         }
         if (b.accuracy) j["accuracy"] = reference::to_json(*b.accuracy);
+        if (b.seams) j["accuracy"]["seams"] = render::to_json(*b.seams);
     }
     if (d.reference) {
         j["stages"].push_back({{"name", "reference"}, {"device_ms", d.reference->device_ms}});
@@ -178,6 +181,10 @@ std::string to_text(const DeviceRenderReport& d, bool kernel_table) {
         s += pipeline::to_text(b.figures, kernel_table);
         if (b.tree && !b.tree->problems.empty()) s += "  BVH INVALID: " + b.tree->problems + "\n";
         if (b.accuracy) s += accuracy_text(*b.accuracy);
+        if (b.seams)
+            s += fmt::format("  hit/miss mismatches within a voxel of a seam between leaf sizes: {} (elsewhere {}; "
+                             "{} leaves on seams)\n",
+                             b.seams->at_seams, b.seams->elsewhere, b.seams->seam_leaves);
     }
     if (d.reference)
         s += fmt::format("  reference tracer {:.3f} ms ({} hits, {} unconverged)\n", d.reference->device_ms,
@@ -239,6 +246,7 @@ struct DeviceRender {
     RenderBuffer buffer;
     Image shaded;
     std::optional<RenderBuffer> reference;  // the reference tracer's image
+    std::optional<render::SceneBricks> bricks;  // kept for --compare of an adaptive build (its seams)
 };
 
 TreeCheck check_trees(const render::SceneBricks& bricks) {
@@ -271,6 +279,7 @@ void render_bricks(ocl::Device& device, const Scene& scene, const RenderOptions&
     r.buffer = std::move(run.trace->buffer);
     r.shaded = std::move(run.trace->colour);
     r.report.bricks = std::move(b);
+    if (o.compare && r.report.bricks->settings.adaptive()) r.bricks = std::move(run.bricks);
 }
 
 DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
@@ -289,6 +298,9 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
         r.report.digest = pipeline::buffer_digest(r.buffer);
     } else if (o.compare) {
         r.report.bricks->accuracy = reference::compare(r.buffer, *r.reference, r.report.bricks->figures.voxel_world);
+        if (r.bricks)
+            r.report.bricks->seams = render::count_seam_mismatches(
+                scene, *r.bricks, make_camera(scene.camera, o.trace.width, o.trace.height), r.buffer, *r.reference);
     }
     return r;
 }
@@ -368,6 +380,7 @@ std::vector<Output> picture_outputs(const RenderOptions& o, const DeviceRender& 
 void run_render_split(const RenderOptions& o, const GlobalOptions& global, const Scene& scene,
                       const std::filesystem::path& out) {
     if (o.reference || o.compare) throw InputError("--devices split renders bricks: --reference and --compare need --devices replicate");
+    refuse_split_repeat(o.measure);
     SplitDevices d = open_split_devices(global);
     const TuningChoice tuning = open_tuning(global);
     pipeline::SplitSpec spec;
@@ -399,7 +412,7 @@ void run_render_split(const RenderOptions& o, const GlobalOptions& global, const
 }
 
 void run_render(RenderOptions o, const GlobalOptions& global) {
-    apply_global_options(global);
+    apply_global_options(global, true);
     const pipeline::DeviceMode mode = device_mode(global);
     const construct::BuildSettings settings = o.flags.resolve();
     if (std::find(std::begin(kModes), std::end(kModes), o.mode) == std::end(kModes))

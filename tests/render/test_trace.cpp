@@ -3,6 +3,8 @@
 // contract (culling on/off, repeats), instancing, and rays that stress the traversal (from inside a
 // brick, grazing, missing everything, a camera inside the solid).
 #include <cmath>
+#include <optional>
+#include <set>
 #include <string>
 
 #include <glm/gtc/quaternion.hpp>
@@ -13,6 +15,7 @@
 #include "reference/host_tracer.h"
 #include "reference/accuracy.h"
 #include "render/brick_tracer.h"
+#include "render/seams.h"
 #include "scene/scene_json.h"
 #include "test_support.h"
 
@@ -105,11 +108,43 @@ TEST(RenderTrace, AdaptiveLeavesMatchHostReference) {
                     m.hit_mismatches, m.depth_error_mean, m.depth_error_p99, m.normal_error_mean_deg);
         EXPECT_GT(m.both_hit, 1000u);
         EXPECT_LE(m.hit_mismatches, 6u);
+        const render::SeamMismatches seams =
+            render::count_seam_mismatches(scene, r.bricks, make_camera(scene.camera, w, h), r.buffer, ref);
+        std::printf("[accuracy] adaptive %s: %zu mismatches at seams, %zu elsewhere, %zu seam leaves\n",
+                    std::string(render::to_string(method)).c_str(), seams.at_seams, seams.elsewhere, seams.seam_leaves);
+        EXPECT_EQ(seams.at_seams + seams.elsewhere, m.hit_mismatches);
+        EXPECT_GT(seams.seam_leaves, 100u);
+        EXPECT_LE(seams.at_seams, 2u);  // no crack where leaf sizes meet
         EXPECT_LT(m.depth_error_p99, 1.0);  // finest voxels; the tolerance is 0.37 of one
         EXPECT_LT(m.normal_error_mean_deg, 1.0);
         expect_defined(r.buffer);
         EXPECT_EQ(digest(r.buffer), digest(render_scene(scene, s, trace_settings(w, h, method)).buffer));
     }
+}
+
+// Every leaf is found at its own level from its centre; a uniform build has no seams, an adaptive
+// one has them exactly where a leaf's face neighbour is a leaf of another level.
+TEST(RenderTrace, SeamsAreWhereLeafSizesMeet) {
+    const Scene scene = shipped("spheres");
+    BuildSettings s = settings(0.03125);
+    const int interior = s.layout().interior();
+    const Rendered uniform = render_scene(scene, s, trace_settings(8, 8, render::Method::sphere));
+    EXPECT_EQ(render::LeafCells(uniform.bricks.builds.front()).seam_leaves(interior), 0u);
+    s.tolerance = 0.002;
+    const Rendered adaptive = render_scene(scene, s, trace_settings(8, 8, render::Method::sphere));
+    const construct::GeometryBuild& b = adaptive.bricks.builds.front();
+    const render::LeafCells cells(b);
+    std::set<unsigned> levels;
+    for (const SdfBrick& r : b.leaves->read()) {
+        const double h = b.leaf_size * std::pow(double(b.branching), b.levels - 1 - int(r.level));
+        const glm::dvec3 centre = glm::dvec3(b.origin) + (glm::dvec3(r.coord[0], r.coord[1], r.coord[2]) + 0.5) * h;
+        ASSERT_EQ(cells.level_at(centre), std::optional<int>(int(r.level)));
+        EXPECT_FALSE(cells.near_seam(centre, interior));  // a brick is 6 voxels wide: its centre is 3 from a face
+        levels.insert(r.level);
+    }
+    EXPECT_GE(levels.size(), 2u);
+    EXPECT_GT(cells.seam_leaves(interior), 0u);
+    EXPECT_LT(cells.seam_leaves(interior), cells.leaf_count());
 }
 
 // Spheres scene against the host reference: every method, normal rule, format and apron.
