@@ -543,38 +543,17 @@ DeviceSet DeviceSet::open(std::string_view spec) {
     }
     const std::vector<std::size_t> selected = select_devices(spec, infos);
 
-    // One context per platform, shared by the selected devices of that platform.
-    std::vector<std::pair<std::size_t, Context>> contexts;  // (platform index, context)
-    for (std::size_t i : selected) {
-        const std::size_t platform_index = all[i].info.platform_index;
-        const bool done = std::any_of(contexts.begin(), contexts.end(),
-                                      [&](const auto& c) { return c.first == platform_index; });
-        if (done) {
-            continue;
-        }
-        std::vector<cl_device_id> ids;
-        for (std::size_t j : selected) {
-            if (all[j].info.platform_index == platform_index) {
-                ids.push_back(all[j].id);
-            }
-        }
-        const cl_context_properties properties[] = {
-            CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(all[i].platform), 0};
-        cl_int status = CL_SUCCESS;
-        Context context(clCreateContext(properties, static_cast<cl_uint>(ids.size()), ids.data(), nullptr, nullptr,
-                                        &status));
-        check(status, fmt::format("creating a context for {} device(s) of platform '{}'", ids.size(),
-                                  all[i].info.platform_name));
-        contexts.emplace_back(platform_index, std::move(context));
-    }
-
+    // One context per device: the devices share no buffer, and a program made in a context of one
+    // device has one binary (in a context of several, PoCL 3 reports no binary for all but one).
     std::vector<Device> devices;
     devices.reserve(selected.size());
     for (std::size_t i : selected) {
-        const auto& context = std::find_if(contexts.begin(), contexts.end(), [&](const auto& c) {
-                                  return c.first == all[i].info.platform_index;
-                              })->second;
-        devices.emplace_back(std::move(all[i].info), all[i].id, context);
+        const cl_context_properties properties[] = {
+            CL_CONTEXT_PLATFORM, reinterpret_cast<cl_context_properties>(all[i].platform), 0};
+        cl_int status = CL_SUCCESS;
+        Context context(clCreateContext(properties, 1, &all[i].id, nullptr, nullptr, &status));
+        check(status, fmt::format("creating a context for device {} ({})", i, all[i].info.name));
+        devices.emplace_back(std::move(all[i].info), all[i].id, std::move(context));
     }
     return DeviceSet(std::move(devices));
 }

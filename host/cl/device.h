@@ -127,7 +127,7 @@ private:
     std::vector<Program> programs_;
 };
 
-// One or more opened devices, possibly of different platforms (one context per platform).
+// One or more opened devices, possibly of different platforms (one context per device).
 class DeviceSet {
 public:
     // Lists the devices, selects by spec (see select_devices) and opens them.

@@ -259,6 +259,7 @@ ProgramHandle load_from_disk(const Device& device, const std::filesystem::path& 
     return program;
 }
 
+// The binary of a program of one device (every context holds one device: cl/device.h).
 std::string program_binary(cl_program program, const BuildRecord& record) {
     const std::string doing = fmt::format("reading the binary of {} built for {}", record.kernel_file, record.device_name);
     std::size_t size = 0;
@@ -273,7 +274,13 @@ std::string program_binary(cl_program program, const BuildRecord& record) {
 // partial entry. Failures are noted in the record, not thrown: the program itself is fine.
 void store_on_disk(cl_program program, const std::filesystem::path& file, const CacheSeal& seal, BuildRecord& record) {
     static std::atomic<unsigned> counter{0};
-    const std::string binary = program_binary(program, record);
+    std::string binary;
+    try {
+        binary = program_binary(program, record);
+    } catch (const ClError& e) {
+        record.cache_note = fmt::format("the program binary could not be read ({}); nothing cached", e.what());
+        return;
+    }
     if (binary.empty()) {
         record.cache_note = "the driver returned no program binary; nothing cached";
         return;

@@ -184,6 +184,26 @@ TEST(PipelineSplit, DeviceThatCannotHoldItsShareGetsLess) {
     EXPECT_EQ(gone[0]["done"].get<double>(), 1.0);
 }
 
+// Two devices of one context each compile and cache their own programs (a program made in a
+// context of two devices has a binary slot per device), and a second run loads them all.
+TEST(PipelineSplit, EachDeviceCachesItsOwnPrograms) {
+    const fs::path dir = test::temp_dir("split_cache");
+    const auto entries = [](const fs::path& cache) {
+        std::size_t n = 0;
+        for (const auto& e : fs::directory_iterator(cache)) n += e.path().extension() == ".bin";
+        return n;
+    };
+    const std::string build = " build " + scene_path("spheres") + " --brick-size 0.25";
+    run_json(dir, two_devices(dir, "SDFBRICK_RATES=off SDFBRICK_CACHE_DIR=" + (dir / "one").string()), "--device 0" + build);
+    const std::string split_env = two_devices(dir, "SDFBRICK_RATES=off SDFBRICK_CACHE_DIR=" + (dir / "two").string());
+    run_json(dir, split_env, "--device cpu --devices split" + build);
+    const std::size_t one = entries(dir / "one"), two = entries(dir / "two");
+    EXPECT_GT(one, 0u);
+    EXPECT_EQ(two, 2 * one);
+    run_json(dir, split_env, "--device cpu --devices split" + build);
+    EXPECT_EQ(entries(dir / "two"), two);
+}
+
 TEST(PipelineSplit, FaultOnEveryDeviceIsOneClearError) {
     const fs::path dir = test::temp_dir("split_fault_all");
     const CliRun r = test::sdfbrick("--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " +
