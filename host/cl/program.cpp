@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cstdint>
@@ -307,11 +308,57 @@ void store_on_disk(cl_program program, const std::filesystem::path& file, const 
     }
 }
 
+using SecretKey = std::pair<std::uint64_t, std::uint64_t>;
+
+// The key in a secret file: a regular file of this user, private, 32 hex digits and a newline.
+std::optional<SecretKey> read_secret(const std::filesystem::path& secret) {
+    struct stat sst{};
+    if (::lstat(secret.c_str(), &sst) != 0 || !S_ISREG(sst.st_mode) || sst.st_uid != ::geteuid() ||
+        (sst.st_mode & 077) != 0)
+        return std::nullopt;
+    const std::string text = read_file(secret);
+    std::uint64_t k[2] = {0, 0};
+    const bool valid = text.size() == 33 && text[32] == '\n' &&
+                       std::from_chars(text.data(), text.data() + 16, k[0], 16).ptr == text.data() + 16 &&
+                       std::from_chars(text.data() + 16, text.data() + 32, k[1], 16).ptr == text.data() + 32;
+    if (!valid) return std::nullopt;
+    return SecretKey{k[0], k[1]};
+}
+
+// Makes a new secret from random bytes. Where there is none yet, the first writer wins (a hard link
+// fails when the file exists) and the others read its key: threads and processes that start on an
+// empty cache at once agree on one key. A damaged secret is replaced.
+std::optional<SecretKey> create_secret(const std::filesystem::path& secret) {
+    static std::atomic<unsigned> counter{0};
+    std::random_device random;
+    SecretKey k;
+    k.first = (std::uint64_t{random()} << 32) ^ random();
+    k.second = (std::uint64_t{random()} << 32) ^ random();
+    const std::filesystem::path temporary =
+        secret.string() + fmt::format(".tmp-{}-{}", static_cast<long>(getpid()), counter++);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+    const std::string line = fmt::format("{:016x}{:016x}\n", k.first, k.second);
+    const bool written = fd >= 0 && ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
+    if (fd >= 0) ::close(fd);
+    std::error_code error;
+    bool placed = written && ::link(temporary.c_str(), secret.c_str()) == 0;
+    if (written && !placed && errno == EEXIST) {
+        if (const auto theirs = read_secret(secret)) {
+            std::filesystem::remove(temporary, error);
+            return theirs;
+        }
+        std::filesystem::rename(temporary, secret, error);  // damaged: replace it
+        placed = !error;
+    }
+    std::filesystem::remove(temporary, error);
+    return placed ? std::optional<SecretKey>(k) : std::nullopt;
+}
+
 // Makes `dir` private to this user (mode 0700: created so, repaired if group or others had access)
 // and returns the seal key held in dir/secret (mode 0600, made with random bytes on first use, and
 // made anew after a repair, since others may have read it). std::nullopt, with the reason in `note`,
 // when the directory cannot be used: it is not a directory, or another user owns it.
-std::optional<std::pair<std::uint64_t, std::uint64_t>> open_cache_dir(const std::filesystem::path& dir, std::string& note) {
+std::optional<SecretKey> open_cache_dir(const std::filesystem::path& dir, std::string& note) {
     std::error_code ignored;
     if (!std::filesystem::exists(dir, ignored)) {
         std::filesystem::create_directories(dir.parent_path(), ignored);
@@ -333,32 +380,10 @@ std::optional<std::pair<std::uint64_t, std::uint64_t>> open_cache_dir(const std:
         note = fmt::format("cache directory {} was open to other users (mode {:03o}): made it private (0700) and "
                            "discarded its entries", dir.string(), st.st_mode & 0777);
     }
-    std::string text;
-    struct stat sst{};
-    if (::lstat(secret.c_str(), &sst) == 0 && S_ISREG(sst.st_mode) && sst.st_uid == ::geteuid() && (sst.st_mode & 077) == 0) {
-        text = read_file(secret);
-    }
-    std::uint64_t k[2] = {0, 0};
-    const bool valid = text.size() == 33 && text[32] == '\n' &&
-                       std::from_chars(text.data(), text.data() + 16, k[0], 16).ptr == text.data() + 16 &&
-                       std::from_chars(text.data() + 16, text.data() + 32, k[1], 16).ptr == text.data() + 32;
-    if (!valid) {
-        std::random_device random;
-        for (std::uint64_t& word : k) word = (std::uint64_t{random()} << 32) ^ random();
-        const std::filesystem::path temporary = secret.string() + fmt::format(".tmp-{}", static_cast<long>(getpid()));
-        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
-        const std::string line = fmt::format("{:016x}{:016x}\n", k[0], k[1]);
-        const bool written = fd >= 0 && ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
-        if (fd >= 0) ::close(fd);
-        std::error_code error;
-        if (written) std::filesystem::rename(temporary, secret, error);
-        if (!written || error) {
-            std::filesystem::remove(temporary, ignored);
-            note = fmt::format("cannot write the cache secret {}: disk cache not used", secret.string());
-            return std::nullopt;
-        }
-    }
-    return std::make_pair(k[0], k[1]);
+    if (const auto key = read_secret(secret)) return key;
+    if (const auto key = create_secret(secret)) return key;
+    note = fmt::format("cannot write the cache secret {}: disk cache not used", secret.string());
+    return std::nullopt;
 }
 
 // What build_program builds: the record's options and key, the source, and the program's identity
