@@ -99,7 +99,8 @@ TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
 TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     const fs::path dir = test::temp_dir("split_balance");
     const std::string env = two_devices(dir);
-    const std::string args = "--device cpu --devices split render " + scene_path("spheres") + kRender;
+    const std::string args =
+        "--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " + (dir / "p.ppm").string();
     const nlohmann::json first = run_json(dir, env, args);
     EXPECT_EQ(first["construct"]["basis"], pipeline::kStaticBasis);
     EXPECT_NEAR(first["construct"]["devices"][0]["planned"].get<double>(), 0.5, 1e-9);
@@ -142,7 +143,8 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
 // BVH and 48 in shading: the trace stage.
 TEST(PipelineSplit, DeviceFaultGivesTheSameBits) {
     const fs::path dir = test::temp_dir("split_fault");
-    const std::string args = "--device cpu --devices split render " + scene_path("spheres") + kRender;
+    const std::string args =
+        "--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " + (dir / "p.ppm").string();
     const nlohmann::json clean = run_json(dir, two_devices(dir, "SDFBRICK_RATES=off"), args);
     for (int device : {0, 1}) {
         for (int n : {1, 12, 44, 48}) {
