@@ -18,16 +18,17 @@
 #define CHECK_COUNT (CHECK_AXIS * CHECK_AXIS * CHECK_AXIS)
 
 /* F_C at p over the brick's whole list, in list order (the bits brick_evaluate computes). */
-inline float check_field(__global const SdfEdit* edits, __global const uint* list, uint n, float3 p, float clamp_c) {
+inline float check_field(__global const SdfEdit* edits, __global const float* meshes, __global const uint* list, uint n, float3 p,
+                         float clamp_c) {
     float f = clamp_c;
     for (uint j = 0; j < n; ++j) {
         const SdfPrepared e = sdf_prepare(edits[list[j]]);
-        f = sdf_fold(&e, f, p, clamp_c);
+        f = sdf_fold(&e, meshes, f, p, clamp_c);
     }
     return f;
 }
 
-__kernel void brick_check(__global const SdfEdit* edits, __global const uint* edit_indices,
+__kernel void brick_check(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z,
                           float voxel, float clamp_c, float band, float quant_scale, float dequant, float tolerance, float window,
                           __global float* errors, __global uint* passed, __local float* stored, __local float* worst) {
