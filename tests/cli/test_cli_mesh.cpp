@@ -49,6 +49,21 @@ TEST(CliMesh, MixedSceneRendersCloseToTheReference) {
     EXPECT_LT(a["depth_error_p99"].get<double>(), 1.0) << a.dump();  // voxels
 }
 
+// The shipped mesh scene: three gear meshes (one file) with CSG edits, two objects.
+TEST(CliMesh, GearsSceneRendersCloseToTheReference) {
+    const fs::path dir = test::temp_dir("cli_mesh_gears");
+    const test::CliRun r = sdfbrick("render " + test::scene_path("gears") + " --width 128 --height 96 --compare --out " +
+                                    (dir / "g.ppm").string() + " --json " + (dir / "r.json").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto a = nlohmann::json::parse(read_file(dir / "r.json"))["accuracy"];
+    EXPECT_GT(a["both_hit"].get<int>(), 128 * 96 / 8);
+    EXPECT_LT(a["mismatch_fraction"].get<double>(), 0.01) << a.dump();
+    EXPECT_LT(a["depth_error_p99"].get<double>(), 1.0) << a.dump();
+    const test::CliRun info = sdfbrick("scene info " + test::scene_path("gears") + " --json");
+    ASSERT_EQ(info.status, 0) << info.err;
+    EXPECT_EQ(nlohmann::json::parse(info.out)["geometries"][0]["primitives"]["mesh"].get<int>(), 3) << info.out;
+}
+
 TEST(CliMesh, BadMeshFilesAreRefusedNamingFileAndPlace) {
     const fs::path dir = test::temp_dir("cli_mesh_bad");
     TriangleMesh open = icosphere(0.5, 1);
