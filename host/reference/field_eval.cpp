@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -31,6 +32,10 @@ FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::sp
         throw InputError(fmt::format("{} points need {} bytes in one buffer; {} allocates at most {} bytes at once: "
                                      "evaluate fewer points (a lower slice resolution)",
                                      n, point_bytes, device_.info().name, device_.info().max_alloc_bytes));
+    constexpr std::size_t header_floats = sizeof(SdfMeshGrid) / sizeof(float);
+    for (const SdfEdit& e : edits)
+        if (e.primitive == SDF_PRIM_MESH && (static_cast<std::size_t>(e.params[3]) + 1) * header_floats > meshes.size())
+            throw std::invalid_argument("FieldEvaluator::evaluate: a mesh edit whose grid is not in the mesh pool");
     FieldEvalResult result;
     result.values.resize(n);
     if (n == 0) return result;

@@ -241,23 +241,26 @@ struct MeshCatalog {
     std::map<std::pair<std::string, int>, Entry> entries;
 };
 
-// The mesh a mesh edit's "file" names; every error names the file and the place in the scene.
+// The mesh a mesh edit's "file" names. Every refusal names the place in the scene, then the file
+// (load_mesh and make_mesh_source name it first in their messages).
 std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesystem::path& path, int resolution) {
-    try {
-        TriangleMesh mesh = load_mesh(path);
-        const Aabb b = mesh.bounds();
-        const glm::dvec3 m = glm::max(glm::abs(b.lo), glm::abs(b.hi));
-        const double reach = std::max({m.x, m.y, m.z});
-        if (reach > kSceneNumberLimit)
-            file.fail(fmt::format("{}: a vertex coordinate of magnitude {} is out of range: scene numbers lie in "
-                                  "[-{:g}, {:g}]", path.string(), reach, kSceneNumberLimit, kSceneNumberLimit));
-        auto source = make_mesh_source(std::move(mesh), path.string(), resolution);
-        source->file = file.string();
-        return source;
-    } catch (const InputError& e) {
-        if (std::string_view(e.what()).starts_with(path.string())) file.fail(e.what());
-        throw;  // already names the place
-    }
+    const auto named = [&](auto&& step) {
+        try {
+            return step();
+        } catch (const InputError& e) {
+            file.fail(escaped(e.what(), 2 * kPathEchoLimit));
+        }
+    };
+    TriangleMesh mesh = named([&] { return load_mesh(path); });
+    const Aabb b = mesh.bounds();
+    const glm::dvec3 m = glm::max(glm::abs(b.lo), glm::abs(b.hi));
+    const double reach = std::max({m.x, m.y, m.z});
+    if (reach > kSceneNumberLimit)
+        file.fail(fmt::format("{}: a vertex coordinate of magnitude {} is out of range: scene numbers lie in [-{:g}, {:g}]",
+                              escaped(path.string(), kPathEchoLimit), reach, kSceneNumberLimit, kSceneNumberLimit));
+    auto source = named([&] { return make_mesh_source(std::move(mesh), path.string(), resolution); });
+    source->file = file.string();
+    return source;
 }
 
 // A mesh edit's own fields: the file and the grid's resolution (cells along the longest side).
