@@ -41,7 +41,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     for (uint idx = lid; idx < SAMPLE_COUNT; idx += wg) {
         const int3 ijk = (int3)(idx % SAMPLES, (idx / SAMPLES) % SAMPLES, idx / (SAMPLES * SAMPLES));
         const float3 p = origin + (convert_float3(first + ijk) + 0.5f) * voxel;
-        const float d = fmin(fmax(check_field(edits, list, b.edit_count, p, clamp_c), -band), band);
+        const float d = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
 #if FORMAT == 2
         stored[idx] = d;
 #else
@@ -62,7 +62,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         }
         const float interpolated = sum * 0.125f;
         const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
-        const float exact = fmin(fmax(check_field(edits, list, b.edit_count, p, clamp_c), -band), band);
+        const float exact = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
         const float error = fabs(fmin(fmax(interpolated, -window), window) - fmin(fmax(exact, -window), window));
         lost |= (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance;
         mine = fmax(mine, error);

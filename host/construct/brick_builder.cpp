@@ -610,7 +610,7 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["aabbs"] = out_.aabbs->bytes();
     out_.memory["edit lists"] = list_bytes_;
     out_.memory["edits"] = edits_.bytes();
-    out_.memory["mesh grids"] = meshes_.bytes();
+    if (meshes_.size() > 1) out_.memory["mesh grids"] = meshes_.bytes();  // one float: no mesh
     out_.memory["scratch"] = scratch_bytes_;
 }
 

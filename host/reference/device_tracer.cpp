@@ -264,7 +264,6 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
                      {"instances", bytes_of(instances)},
                      {"geometries", bytes_of(packed.records)},
                      {"edits", bytes_of(packed.edits)},
-                     {"mesh grids", bytes_of(meshes)},
                      {"edit_boxes", bytes_of(packed.boxes)},
                      {"edit_bvh", bytes_of(packed.nodes)},
                      {"intersect_lists", bytes_of(packed.isect)},
@@ -272,6 +271,7 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
                      {"aux", static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2)},
                      {"counters", static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2)}};
 
+    if (meshes.size() > 1) result.memory["mesh grids"] = bytes_of(meshes);  // one float: no mesh
     ocl::set_args(kernel_.get(), camera_buf, instance_buf, static_cast<cl_uint>(instances.size()), geometry_buf,
                   edit_buf, mesh_buf, box_buf, node_buf, isect_buf, static_cast<cl_uint>(settings.max_steps),
                   static_cast<cl_uint>(settings.exact_field ? 1 : 0), hit_buf, aux_buf, count_buf);

@@ -225,14 +225,13 @@ GridFrame grid_frame(const TriangleMesh& mesh, double cell, int padding) {
     if (!(cell > 0.0) || !std::isfinite(cell))
         throw SettingError("cell", fmt::format("the mesh grid's cell must be positive and finite, got {}", cell));
     const Aabb box = mesh.bounds();
-    const double cell_f = static_cast<float>(cell);  // the kernels' cell: the same frame from either
-    const glm::dvec3 cells = glm::ceil(box.extent() / cell_f) + 2.0 * padding;
+    const glm::dvec3 cells = glm::ceil(box.extent() / cell) + 2.0 * padding;
     if (cells.x > kMaxGridCells || cells.y > kMaxGridCells || cells.z > kMaxGridCells)
         throw InputError(fmt::format("a mesh grid of {} x {} x {} cells is more than {} along an axis: use a larger cell",
                                      cells.x, cells.y, cells.z, kMaxGridCells));
     GridFrame f;
-    f.origin = glm::dvec3(glm::vec3(box.lo - padding * cell_f));
-    f.cell = cell_f;
+    f.origin = glm::dvec3(glm::vec3(box.lo - padding * cell));  // the floats the kernels read
+    f.cell = static_cast<float>(cell);
     f.dims = glm::ivec3(cells) + 1;
     return f;
 }

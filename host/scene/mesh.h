@@ -46,6 +46,8 @@ MeshTopology topology(const TriangleMesh& mesh);
 
 // The grid a mesh edit samples: points origin + (i, j, k) * cell (i fastest) covering the mesh's
 // bounds grown by `padding` cells on every side; origin and cell are the floats the kernels read.
+// Compute a frame once and pass it on (MeshGridBuilder::build): the points per axis come from the
+// cell before rounding, so a frame made again from the rounded cell may differ by one.
 struct GridFrame {
     glm::dvec3 origin{0.0};
     double cell = 0.0;

@@ -118,6 +118,20 @@ TEST(ConstructMeshEdit, CullingOnAndOffAndRepeatsAreBitIdentical) {
     EXPECT_EQ(a, c);
 }
 
+// Adaptive leaves check coarse bricks against the field (brick_check): with mesh edits too.
+TEST(ConstructMeshEdit, AdaptiveBuildChecksMeshEditsAndIsBitIdentical) {
+    const Scene scene = load_scene(write_mixed_scene("mesh_adaptive"));
+    construct::BrickBuilder builder(test::device());
+    construct::BuildSettings on = settings(0.0625), off = on;
+    on.tolerance = off.tolerance = 0.01;
+    off.cull = false;
+    const construct::GeometryBuild b = builder.build(scene.geometries[0], on, test::recorder());
+    EXPECT_LT(b.coarsest_leaf_level, b.levels - 1);  // some leaves coarser than the finest
+    EXPECT_LE(b.check_error_max, 0.01);
+    const std::string a = construct::output_digest(b, on);
+    EXPECT_EQ(a, construct::output_digest(builder.build(scene.geometries[0], off, test::recorder()), off));
+}
+
 // The device value of a mesh edit is 1-Lipschitz (trilinear / sqrt(3)) inside and far outside its grid,
 // which is what culling and sphere tracing rely on, and its sign follows the mesh.
 TEST(ConstructMeshEdit, DeviceFieldIsOneLipschitzEverywhere) {
