@@ -18,16 +18,17 @@
 #define CHECK_COUNT (CHECK_AXIS * CHECK_AXIS * CHECK_AXIS)
 
 /* F_C at p over the brick's whole list, in list order (the bits brick_evaluate computes). */
-inline float check_field(__global const SdfEdit* edits, __global const uint* list, uint n, float3 p, float clamp_c) {
+inline float check_field(__global const SdfEdit* edits, __global const float* meshes, __global const uint* list, uint n, float3 p,
+                         float clamp_c) {
     float f = clamp_c;
     for (uint j = 0; j < n; ++j) {
         const SdfPrepared e = sdf_prepare(edits[list[j]]);
-        f = sdf_fold(&e, f, p, clamp_c);
+        f = sdf_fold(&e, meshes, f, p, clamp_c);
     }
     return f;
 }
 
-__kernel void brick_check(__global const SdfEdit* edits, __global const uint* edit_indices,
+__kernel void brick_check(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z,
                           float voxel, float clamp_c, float band, float quant_scale, float dequant, float tolerance, float window,
                           __global float* errors, __global uint* passed, __local float* stored, __local float* worst) {
@@ -40,7 +41,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const uint* ed
     for (uint idx = lid; idx < SAMPLE_COUNT; idx += wg) {
         const int3 ijk = (int3)(idx % SAMPLES, (idx / SAMPLES) % SAMPLES, idx / (SAMPLES * SAMPLES));
         const float3 p = origin + (convert_float3(first + ijk) + 0.5f) * voxel;
-        const float d = fmin(fmax(check_field(edits, list, b.edit_count, p, clamp_c), -band), band);
+        const float d = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
 #if FORMAT == 2
         stored[idx] = d;
 #else
@@ -61,7 +62,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const uint* ed
         }
         const float interpolated = sum * 0.125f;
         const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
-        const float exact = fmin(fmax(check_field(edits, list, b.edit_count, p, clamp_c), -band), band);
+        const float exact = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
         const float error = fabs(fmin(fmax(interpolated, -window), window) - fmin(fmax(exact, -window), window));
         lost |= (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance;
         mine = fmax(mine, error);

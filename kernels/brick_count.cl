@@ -14,7 +14,7 @@
  * child mask (bit = Morton index) and its child count. */
 #include "sdf_build.h"
 
-__kernel void brick_count(__global const SdfEdit* edits, __global const uint* edit_indices,
+__kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
                           float threshold, float clamp_c, float saturation, float reject_slack,
@@ -39,11 +39,11 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const uint* ed
         for (uint j = 0; j < n; ++j) {
             const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
             if (wide) {
-                const float v = sdf_prepared_value(&e, p);
+                const float v = sdf_prepared_value(&e, meshes, p);
                 excess += sdf_saturation_excess(&e, v, clamp_c, saturation, threshold, magnitude);
                 field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
             } else {
-                field = sdf_fold(&e, field, p, clamp_c);
+                field = sdf_fold(&e, meshes, field, p, clamp_c);
             }
         }
     }

@@ -37,7 +37,7 @@ inline uint owner_of_word(__global const uint* word_offsets, uint count, uint w)
 
 /* One work-item per word of the bit sets (32 entries of one brick's inherited list): parallel over
  * long lists too (the top levels have few bricks and long lists). */
-__kernel void cull_mark(__global const SdfEdit* edits, __global const uint* parent_indices,
+__kernel void cull_mark(__global const SdfEdit* edits, __global const float* meshes, __global const uint* parent_indices,
                         __global const SdfBrick* bricks, uint count, uint total_words,
                         float origin_x, float origin_y, float origin_z, float cell,
                         float radius, float clamp_c, float magnitude,
@@ -55,7 +55,7 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const uint* pare
     for (uint j = first; j < end; ++j) {
         const SdfEdit e = edits[list[j]];
         const SdfPrepared pe = sdf_prepare(e);
-        if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
+        if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, meshes, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
     }
     bits[w] = word;
 }

@@ -15,7 +15,7 @@
 
 #include "sdf_format.h"
 
-__kernel void brick_evaluate(__global const SdfEdit* edits, __global const uint* edit_indices,
+__kernel void brick_evaluate(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                              __global const SdfBrick* bricks,
                              float origin_x, float origin_y, float origin_z, float finest_voxel,
                              __global const float* level_clamp, float finest_band, float finest_quant_scale,
@@ -44,7 +44,7 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const uint*
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
             const SdfPrepared e = chunk[j];
-            for (uint s = 0; s < PER_ITEM; ++s) field[s] = sdf_fold(&e, field[s], p[s], clamp_c);
+            for (uint s = 0; s < PER_ITEM; ++s) field[s] = sdf_fold(&e, meshes, field[s], p[s], clamp_c);
         }
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;

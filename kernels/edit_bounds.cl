@@ -37,6 +37,10 @@ inline float3 edit_local_half_extents(uint kind, const float p[4], float c) {
             return (float3)(p[0] * g, p[1] * g, p[2] * g);
         }
         case SDF_PRIM_MENGER: return (float3)(p[0] + c); /* the sponge lies inside its cube */
+        case SDF_PRIM_MESH:
+            /* p[0..2] holds the grid box; outside that box the value is the distance to it plus a
+             * boundary value >= 0 (a distance at least the grid's padding). */
+            return (float3)(p[0] + c, p[1] + c, p[2] + c);
         default: return (float3)(-1.0f);                 /* marks "empty" */
     }
 }

@@ -3,7 +3,7 @@
  * in order straight from global memory (construction stages their chunks through __local memory). */
 #include "sdf_edit.h"
 
-__kernel void eval_points(__global const SdfEdit* edits, uint edit_count,
+__kernel void eval_points(__global const SdfEdit* edits, uint edit_count, __global const float* meshes,
                           __global const float* points, uint point_count,
                           __global float* out) {
     const uint i = get_global_id(0);
@@ -12,7 +12,7 @@ __kernel void eval_points(__global const SdfEdit* edits, uint edit_count,
     float field = SDF_FAR;
     for (uint j = 0; j < edit_count; ++j) {
         const SdfPrepared e = sdf_prepare(edits[j]);
-        field = sdf_apply_edit(&e, field, p);
+        field = sdf_apply_edit(&e, meshes, field, p);
     }
     out[i] = field;
 }

@@ -55,6 +55,7 @@ typedef struct RefGeometry {
 typedef struct RefScene {
     __global const RefGeometry* geoms;
     __global const SdfEdit* edits;
+    __global const float* meshes; /* the mesh pool (sdf_types.h) */
     __global const SdfBounds* boxes;
     __global const SdfBvhNode* nodes;
     __global const uint* isect;
@@ -86,7 +87,7 @@ inline float ref_fold_all(const RefScene* s, const RefGeometry* g, float3 p) {
     float f = SDF_FAR;
     for (uint i = 0; i < g->edit_count; ++i) {
         const SdfPrepared e = sdf_prepare(s->edits[g->edit_offset + i]);
-        f = sdf_apply_edit(&e, f, p);
+        f = sdf_apply_edit(&e, s->meshes, f, p);
     }
     return f;
 }
@@ -106,14 +107,14 @@ inline float ref_fold_exact(const RefScene* s, const RefGeometry* g, float3 p) {
             if (op == SDF_OP_SUBTRACT && f >= -c) continue;
         }
         const SdfPrepared e = sdf_prepare(s->edits[g->edit_offset + i]);
-        f = sdf_apply_edit(&e, f, p);
+        f = sdf_apply_edit(&e, s->meshes, f, p);
     }
     return f;
 }
 
 inline void ref_fold_one(const RefScene* s, const RefGeometry* g, uint i, float3 p, float* lo, float* hi) {
     const SdfPrepared e = sdf_prepare(s->edits[g->edit_offset + i]);
-    const float v = sdf_prepared_value(&e, p);
+    const float v = sdf_prepared_value(&e, s->meshes, p);
     *lo = fmin(sdf_combine(&e, *lo, v), g->clamp_c);
     *hi = fmax(sdf_combine(&e, *hi, v), -g->clamp_c);
 }
@@ -235,8 +236,8 @@ inline void ref_ray_to_geometry(const SdfInstance* inst, float3 eye, float3 dir,
 
 __kernel void reference_trace(__global const SdfCamera* camera, __global const SdfInstance* instances,
                               uint instance_count, __global const RefGeometry* geoms,
-                              __global const SdfEdit* edits, __global const SdfBounds* boxes,
-                              __global const SdfBvhNode* nodes, __global const uint* isect, uint max_steps,
+                              __global const SdfEdit* edits, __global const float* meshes,
+                              __global const SdfBounds* boxes, __global const SdfBvhNode* nodes, __global const uint* isect, uint max_steps,
                               uint exact, __global float4* out_hit, __global uint2* out_aux,
                               __global uint2* out_counts) {
     const uint x = get_global_id(0), y = get_global_id(1);
@@ -247,6 +248,7 @@ __kernel void reference_trace(__global const SdfCamera* camera, __global const S
     RefScene s;
     s.geoms = geoms;
     s.edits = edits;
+    s.meshes = meshes;
     s.boxes = boxes;
     s.nodes = nodes;
     s.isect = isect;

@@ -17,8 +17,8 @@
 #include "sdf_edit.h"
 
 /* One step of the band-limited fold. */
-inline float sdf_fold(const SdfPrepared* e, float field, float3 p, float clamp_c) {
-    const float f = sdf_apply_edit(e, field, p);
+inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float field, float3 p, float clamp_c) {
+    const float f = sdf_apply_edit(e, meshes, field, p);
     return fmin(fmax(f, -clamp_c), clamp_c);
 }
 

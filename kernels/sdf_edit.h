@@ -90,6 +90,33 @@ inline float sdf_primitive(uint kind, const float prm[4], float3 p) {
     }
 }
 
+/* A mesh edit's local distance: the trilinear interpolant of its grid (pool header `index`), and
+ * outside the grid's box the distance to the box plus the interpolant at the box's nearest point.
+ * The grid holds exact distances (1-Lipschitz), so each partial derivative of the interpolant is at
+ * most 1 in magnitude: the interpolant is sqrt(3)-Lipschitz, and so is the continuation outside the
+ * box (a face region adds a unit normal slope to two tangential ones, an edge region one, a corner
+ * none). The edit divides by L = sqrt(3) (SdfEdit.inv_lipschitz). */
+inline float sdf_mesh(__global const float* meshes, uint index, float3 p) {
+    __global const SdfMeshGrid* g = (__global const SdfMeshGrid*)meshes + index;
+    const uint nx = g->dims[0], ny = g->dims[1];
+    const float3 top = (float3)((float)(nx - 1u), (float)(ny - 1u), (float)(g->dims[2] - 1u));
+    const float3 u = (p - (float3)(g->origin[0], g->origin[1], g->origin[2])) * g->inv_cell;
+    const float3 c = fmin(fmax(u, (float3)(0.0f)), top);
+    const float outside = sdf_len3(u - c) * g->cell;
+    const float3 base = fmin(floor(c), top - 1.0f);
+    const float3 f = c - base;
+    const uint i = (uint)base.x, j = (uint)base.y, k = (uint)base.z;
+    __global const float* v = meshes + g->offset + i + nx * (j + ny * k);
+    const uint sy = nx, sz = nx * ny;
+    const float x00 = v[0] + (v[1] - v[0]) * f.x;
+    const float x10 = v[sy] + (v[sy + 1u] - v[sy]) * f.x;
+    const float x01 = v[sz] + (v[sz + 1u] - v[sz]) * f.x;
+    const float x11 = v[sz + sy] + (v[sz + sy + 1u] - v[sz + sy]) * f.x;
+    const float y0 = x00 + (x10 - x00) * f.y;
+    const float y1 = x01 + (x11 - x01) * f.y;
+    return (y0 + (y1 - y0) * f.z) + outside;
+}
+
 /* An edit prepared for evaluation (kernel side only, 64 bytes like SdfEdit): the reciprocals that
  * evaluation multiplies by, computed once per edit instead of dividing at every point.
  *   value(p) = primitive((R^-1 (p - t)) * (1/s)) * (s/L)         (R skipped when it is the identity)
@@ -124,11 +151,14 @@ inline SdfPrepared sdf_prepare(SdfEdit e) {
     return r;
 }
 
-/* Value of one prepared edit at p (geometry frame). */
-inline float sdf_prepared_value(const SdfPrepared* e, float3 p) {
+/* Value of one prepared edit at p (geometry frame); meshes is the mesh pool (sdf_types.h). */
+inline float sdf_prepared_value(const SdfPrepared* e, __global const float* meshes, float3 p) {
     float3 d = p - (float3)(e->t[0], e->t[1], e->t[2]);
     if (e->kind & SDF_KIND_ROTATED) d = sdf_rotate_inverse(e->q, d);
-    return sdf_primitive(e->kind & 0xffu, e->prm, d * e->inv_scale) * e->out_scale;
+    const uint prim = e->kind & 0xffu;
+    const float3 x = d * e->inv_scale;
+    const float v = prim == SDF_PRIM_MESH ? sdf_mesh(meshes, (uint)e->prm[3], x) : sdf_primitive(prim, e->prm, x);
+    return v * e->out_scale;
 }
 
 /* Compact-support quadratic smooth minimum / maximum: exactly min / max when |a - b| >= k
@@ -154,8 +184,8 @@ inline float sdf_combine(const SdfPrepared* e, float field, float v) {
 }
 
 /* Apply one prepared edit to the field at p. */
-inline float sdf_apply_edit(const SdfPrepared* e, float field, float3 p) {
-    return sdf_combine(e, field, sdf_prepared_value(e, p));
+inline float sdf_apply_edit(const SdfPrepared* e, __global const float* meshes, float field, float3 p) {
+    return sdf_combine(e, field, sdf_prepared_value(e, meshes, p));
 }
 
 #endif /* SDFBRICK_SDF_EDIT_H */

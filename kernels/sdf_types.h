@@ -31,6 +31,9 @@ typedef float sdf_f32;
  *   CONE       capped, along y, bottom at -h  params = {h (half height), r_bottom, r_top, -}
  *   ELLIPSOID  semi-axes                      params = {rx, ry, rz, -}     (a 1-Lipschitz bound)
  *   MENGER     Menger sponge in a cube        params = {half size s, iterations n (1..6), -, -}
+ *   MESH       a closed triangle mesh         params = {hx, hy, hz, mesh index m}
+ *              sampled from its distance grid (SdfMeshGrid m of the mesh pool); h = half extents of a
+ *              box about the local origin that holds the grid (the edit's bounds), m an exact integer
  */
 #define SDF_PRIM_SPHERE 0u
 #define SDF_PRIM_BOX 1u
@@ -41,7 +44,8 @@ typedef float sdf_f32;
 #define SDF_PRIM_CONE 6u
 #define SDF_PRIM_ELLIPSOID 7u
 #define SDF_PRIM_MENGER 8u
-#define SDF_PRIM_COUNT 9u
+#define SDF_PRIM_MESH 9u
+#define SDF_PRIM_COUNT 10u
 
 /* Combine rules (SdfEdit.op). An edit is smooth iff SdfEdit.blend > 0. */
 #define SDF_OP_ADD 0u
@@ -73,6 +77,20 @@ typedef struct SdfEdit {
     sdf_u32 primitive;      /* SDF_PRIM_* */
     sdf_u32 op;             /* SDF_OP_* */
 } SdfEdit;
+
+/* The signed distance grid of a mesh edit. Every kernel that evaluates edits takes the mesh pool, one
+ * float array: the headers of the scene's meshes first (SdfMeshGrid, 12 floats each, indexed by the
+ * mesh index of SdfEdit.params[3]), then their values. Grid point (i, j, k) lies at
+ * origin + (i, j, k) * cell in the mesh's local frame, its value at pool[offset + i + dims[0] (j + dims[1] k)].
+ * A scene without meshes passes a pool of one unread float. */
+typedef struct SdfMeshGrid {
+    sdf_f32 origin[3];
+    sdf_f32 cell;
+    sdf_f32 inv_cell;
+    sdf_u32 dims[3];   /* points per axis, each >= 2 */
+    sdf_u32 offset;    /* first value, in floats from the pool's start */
+    sdf_u32 pad[3];
+} SdfMeshGrid;
 
 /* Axis-aligned bounds. */
 typedef struct SdfBounds {

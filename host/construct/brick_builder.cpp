@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "construct/edit_deps.h"
+#include "construct/mesh_pool.h"
 #include "cl/cl_error.h"
 #include "cl/launch.h"
 #include "core/errors.h"
@@ -228,7 +229,9 @@ public:
         GeometryBuild& out, const Subtrees* subtrees)
         : b_(b), d_(b.device_), g_(g), s_(s), plan_(plan), scheduler_(scheduler), out_(out), subtrees_(subtrees),
           edits_host_(to_device(g)),
-          edits_(d_, edits_host_, CL_MEM_READ_ONLY), origin_(plan.domain.origin) {}
+          edits_(d_, edits_host_, CL_MEM_READ_ONLY),
+          meshes_(d_, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d_, scheduler)), CL_MEM_READ_ONLY),
+          origin_(plan.domain.origin) {}
 
     // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
     void start() {
@@ -321,6 +324,7 @@ private:
     const Subtrees* subtrees_;  // until applied
     std::vector<SdfEdit> edits_host_;
     ocl::Buffer<SdfEdit> edits_;
+    ocl::Buffer<float> meshes_;  // the mesh pool (construct/mesh_pool.h)
     glm::vec3 origin_;
     std::optional<EditDependencies> deps_;
     ocl::Buffer<cl_uint> empty_uints_{d_, 0};
@@ -352,7 +356,7 @@ std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     const std::size_t group = std::size_t{1} << (3 * lb);
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(d_, parent_count_, "the child counts");
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(d_, parent_count_, "the child offsets");
-    ocl::set_args(b_.programs_->count_k.get(), edits_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
+    ocl::set_args(b_.programs_->count_k.get(), edits_, meshes_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
                   cell(level), plan_.threshold(level), plan_.clamp_c, plan_.saturation(level), plan_.reject_slack(),
                   static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{count_chunk() * sizeof(SdfEdit)},
                   static_cast<cl_uint>(count_chunk()), ocl::LocalMemory{group * sizeof(cl_uint)});
@@ -411,7 +415,7 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     const std::uint64_t total_words = b_.scan_.exclusive(words_, words_, children, scheduler_, measure::Stage::cull, level);
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
     if (total_words > 0) {
-        ocl::set_args(k.mark_k.get(), edits_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
+        ocl::set_args(k.mark_k.get(), edits_, meshes_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
                       origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.cull_saturation(level),
                       static_cast<float>(plan_.magnitude), words_, bits_);
         scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
@@ -445,7 +449,7 @@ std::uint64_t BrickBuilder::Job::check_and_split(int level) {
     LevelLeaves out{level, 0, nullptr, allocate<float>(d_, n, "the check errors"),
                     allocate<cl_uint>(d_, n, "the check results"), nullptr};
     const float band = std::ldexp(plan_.band, plan_.shift(level));
-    ocl::set_args(kernel.get(), edits_, *parent_lists_, *parents_, origin_.x, origin_.y, origin_.z,
+    ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, *parents_, origin_.x, origin_.y, origin_.z,
                   static_cast<float>(std::ldexp(plan_.voxel, plan_.shift(level))), plan_.level_clamp[level], band,
                   layout.quantise_scale(band), layout.dequantise_scale(band), plan_.tolerance, plan_.band, out.errors,
                   out.passed,
@@ -540,7 +544,7 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
-    ocl::set_args(kernel.get(), edits_, *parent_lists_, leaves(), origin_.x, origin_.y, origin_.z,
+    ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), origin_.x, origin_.y, origin_.z,
                   static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
                   plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
     scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
@@ -606,6 +610,7 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["aabbs"] = out_.aabbs->bytes();
     out_.memory["edit lists"] = list_bytes_;
     out_.memory["edits"] = edits_.bytes();
+    if (meshes_.size() > 1) out_.memory["mesh grids"] = meshes_.bytes();  // one float: no mesh
     out_.memory["scratch"] = scratch_bytes_;
 }
 

@@ -143,18 +143,15 @@ MeshGridBuilder::MeshGridBuilder(ocl::Device& device)
     : device_(device), program_(ocl::build_program(device, "mesh_sdf.cl")), kernel_(ocl::make_kernel(program_, "mesh_sdf")) {}
 
 MeshGrid MeshGridBuilder::build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler) {
-    if (!(spec.cell > 0.0) || !std::isfinite(spec.cell))
-        throw SettingError("cell", fmt::format("the mesh grid's cell must be positive and finite, got {}", spec.cell));
-    const Aabb box = mesh.bounds();
+    return build(mesh, grid_frame(mesh, spec.cell, spec.padding), scheduler);
+}
+
+MeshGrid MeshGridBuilder::build(const TriangleMesh& mesh, const GridFrame& frame, measure::Scheduler& scheduler) {
     MeshGrid grid;
-    grid.cell = spec.cell;
-    grid.origin = box.lo - spec.padding * spec.cell;
-    const glm::dvec3 cells = glm::ceil(box.extent() / spec.cell) + 2.0 * spec.padding;
-    if (cells.x > 4096 || cells.y > 4096 || cells.z > 4096)
-        throw InputError(fmt::format("a mesh grid of {} x {} x {} cells is more than 4096 along an axis: use a larger cell",
-                                     cells.x, cells.y, cells.z));
-    grid.dims = glm::ivec3(cells) + 1;
-    const std::size_t points = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
+    grid.origin = frame.origin;
+    grid.cell = frame.cell;
+    grid.dims = frame.dims;
+    const std::size_t points = frame.points();
     const MeshBvh bvh = build_mesh_bvh(mesh);
     if (bvh.depth >= kKernelStack)
         throw InputError(fmt::format("the mesh's triangle tree is {} levels deep; the kernel holds {}", bvh.depth, kKernelStack));
@@ -178,8 +175,6 @@ MeshGrid MeshGridBuilder::build(const TriangleMesh& mesh, const MeshGridSpec& sp
     const std::size_t group = 64;
     scheduler.launch(measure::Stage::mesh, -1, kernel_.get(), (points + group - 1) / group * group, group);
     grid.values = out.read();
-    grid.origin = glm::dvec3(o);  // the floats the kernel used
-    grid.cell = static_cast<float>(grid.cell);
     return grid;
 }
 

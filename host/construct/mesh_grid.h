@@ -57,6 +57,8 @@ public:
     // Throws InputError when the grid or the mesh does not fit the device (naming what and how much),
     // SettingError("cell") for a cell that is not positive and finite.
     MeshGrid build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler);
+    // The grid at the points of `frame` (scene/mesh.h, grid_frame).
+    MeshGrid build(const TriangleMesh& mesh, const GridFrame& frame, measure::Scheduler& scheduler);
 
 private:
     ocl::Device& device_;

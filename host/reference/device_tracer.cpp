@@ -14,6 +14,7 @@
 #include "measure/scheduler.h"
 #include "core/errors.h"
 #include "reference/edit_bvh.h"
+#include "construct/mesh_pool.h"
 #include "scene/to_device.h"
 
 namespace sdfbrick::reference {
@@ -250,6 +251,9 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
     ocl::Buffer<SdfInstance> instance_buf(device_, std::span<const SdfInstance>(instances), CL_MEM_READ_ONLY);
     ocl::Buffer<RefGeometry> geometry_buf(device_, std::span<const RefGeometry>(packed.records), CL_MEM_READ_ONLY);
     ocl::Buffer<SdfEdit> edit_buf(device_, std::span<const SdfEdit>(packed.edits), CL_MEM_READ_ONLY);
+    measure::Scheduler conversion(device_);  // mesh grids not converted yet (once per loaded scene)
+    const std::vector<float> meshes = construct::mesh_pool(scene.geometries, device_, conversion);
+    ocl::Buffer<float> mesh_buf(device_, std::span<const float>(meshes), CL_MEM_READ_ONLY);
     ocl::Buffer<SdfBounds> box_buf(device_, std::span<const SdfBounds>(packed.boxes), CL_MEM_READ_ONLY);
     ocl::Buffer<SdfBvhNode> node_buf(device_, std::span<const SdfBvhNode>(packed.nodes), CL_MEM_READ_ONLY);
     ocl::Buffer<std::uint32_t> isect_buf(device_, std::span<const std::uint32_t>(packed.isect), CL_MEM_READ_ONLY);
@@ -267,8 +271,9 @@ ReferenceResult ReferenceTracer::render(const Scene& scene, const SdfCamera& cam
                      {"aux", static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2)},
                      {"counters", static_cast<std::uint64_t>(pixels) * sizeof(cl_uint2)}};
 
+    if (meshes.size() > 1) result.memory["mesh grids"] = bytes_of(meshes);  // one float: no mesh
     ocl::set_args(kernel_.get(), camera_buf, instance_buf, static_cast<cl_uint>(instances.size()), geometry_buf,
-                  edit_buf, box_buf, node_buf, isect_buf, static_cast<cl_uint>(settings.max_steps),
+                  edit_buf, mesh_buf, box_buf, node_buf, isect_buf, static_cast<cl_uint>(settings.max_steps),
                   static_cast<cl_uint>(settings.exact_field ? 1 : 0), hit_buf, aux_buf, count_buf);
     const std::array<std::size_t, 3> global{(static_cast<std::size_t>(width) + kTile - 1) / kTile * kTile,
                                             (static_cast<std::size_t>(height) + kTile - 1) / kTile * kTile, 1};

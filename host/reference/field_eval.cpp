@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "cl/buffer.h"
 #include "cl/launch.h"
 #include "measure/scheduler.h"
+#include "construct/mesh_pool.h"
 #include "core/errors.h"
 #include "reference/reference_field.h"
 #include "scene/to_device.h"
@@ -20,7 +22,8 @@ FieldEvaluator::FieldEvaluator(ocl::Device& device)
     : device_(device), program_(ocl::build_program(device, "eval_points.cl")),
       kernel_(ocl::make_kernel(program_, "eval_points")) {}
 
-FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::span<const float> xyz) {
+FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::span<const float> xyz,
+                                         std::span<const float> meshes) {
     if (xyz.size() % 3 != 0) throw std::invalid_argument("FieldEvaluator::evaluate: points must be x, y, z triples");
     const std::size_t n = xyz.size() / 3;
     if (n > std::numeric_limits<std::uint32_t>::max()) throw InputError(fmt::format("{} points is more than one batch can hold", n));
@@ -29,15 +32,22 @@ FieldEvalResult FieldEvaluator::evaluate(std::span<const SdfEdit> edits, std::sp
         throw InputError(fmt::format("{} points need {} bytes in one buffer; {} allocates at most {} bytes at once: "
                                      "evaluate fewer points (a lower slice resolution)",
                                      n, point_bytes, device_.info().name, device_.info().max_alloc_bytes));
+    constexpr std::size_t header_floats = sizeof(SdfMeshGrid) / sizeof(float);
+    for (const SdfEdit& e : edits)
+        if (e.primitive == SDF_PRIM_MESH && (static_cast<std::size_t>(e.params[3]) + 1) * header_floats > meshes.size())
+            throw std::invalid_argument("FieldEvaluator::evaluate: a mesh edit whose grid is not in the mesh pool");
     FieldEvalResult result;
     result.values.resize(n);
     if (n == 0) return result;
     ocl::Buffer<SdfEdit> edit_buf(device_, edits.size(), CL_MEM_READ_ONLY);
     ocl::Buffer<float> point_buf(device_, xyz.size(), CL_MEM_READ_ONLY);
     ocl::Buffer<float> out_buf(device_, n, CL_MEM_WRITE_ONLY);
+    const float no_meshes = 0.0f;
+    ocl::Buffer<float> mesh_buf(device_, meshes.empty() ? std::span<const float>(&no_meshes, 1) : meshes, CL_MEM_READ_ONLY);
     edit_buf.write(edits);
     point_buf.write(xyz);
-    ocl::set_args(kernel_.get(), edit_buf, static_cast<cl_uint>(edits.size()), point_buf, static_cast<cl_uint>(n), out_buf);
+    ocl::set_args(kernel_.get(), edit_buf, static_cast<cl_uint>(edits.size()), mesh_buf, point_buf,
+                  static_cast<cl_uint>(n), out_buf);
     const std::size_t local = 64;
     const std::size_t global = (n + local - 1) / local * local;
     measure::Scheduler scheduler(device_);
@@ -97,7 +107,9 @@ Slice evaluate_slice(FieldEvaluator& evaluator, const Scene& scene, const SliceS
                 xyz[i + 2] = static_cast<float>(p.z);
             }
         const std::vector<SdfEdit> edits = to_device(g);
-        const FieldEvalResult r = evaluator.evaluate(edits, xyz);
+        measure::Scheduler conversion(evaluator.device());
+        const std::vector<float> meshes = construct::mesh_pool(std::span<const Geometry>(&g, 1), evaluator.device(), conversion);
+        const FieldEvalResult r = evaluator.evaluate(edits, xyz, meshes);
         const float scale = static_cast<float>(o.transform.scale);
         for (std::size_t i = 0; i < count; ++i) s.values[i] = std::min(s.values[i], r.values[i] * scale);
         s.device_ms += r.device_ms;

@@ -26,8 +26,10 @@ class FieldEvaluator {
 public:
     explicit FieldEvaluator(ocl::Device& device);
 
-    // The field of `edits` (geometry frame, in order) at points given as packed x, y, z floats.
-    FieldEvalResult evaluate(std::span<const SdfEdit> edits, std::span<const float> xyz);
+    // The field of `edits` (geometry frame, in order) at points given as packed x, y, z floats;
+    // `meshes` is the mesh pool of mesh edits (construct/mesh_pool.h), empty when there are none.
+    FieldEvalResult evaluate(std::span<const SdfEdit> edits, std::span<const float> xyz,
+                             std::span<const float> meshes = {});
 
     ocl::Device& device() const { return device_; }
     const ocl::BuildRecord& build() const { return program_.record(); }

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "reference/mesh_distance.h"
+
 namespace sdfbrick::reference {
 namespace {
 
@@ -86,6 +88,8 @@ double primitive_distance(Primitive prim, const std::array<double, 4>& params, c
         const double n = std::clamp(std::round(params[1]), 0.0, 16.0);
         return menger(p, params[0], static_cast<int>(n));
     }
+    case Primitive::Mesh:
+        throw std::invalid_argument("reference::primitive_distance: a mesh's distance needs its triangles (edit_value)");
     }
     throw std::invalid_argument("reference::primitive_distance: unknown primitive " +
                                 std::to_string(static_cast<std::uint32_t>(prim)));
@@ -93,7 +97,9 @@ double primitive_distance(Primitive prim, const std::array<double, 4>& params, c
 
 double edit_value(const Edit& e, const glm::dvec3& p) {
     const glm::dvec3 local = e.transform.inverse_apply(p);
-    return primitive_distance(e.primitive, e.params, local) * e.transform.scale / lipschitz(e);
+    const double d = e.primitive == Primitive::Mesh ? mesh_signed_distance(e.mesh->mesh, local)
+                                                    : primitive_distance(e.primitive, e.params, local);
+    return d * e.transform.scale / lipschitz(e);
 }
 
 double smooth_min(double a, double b, double k) {

@@ -4,6 +4,8 @@
 //
 // Definitions (every function below follows them literally):
 //   edit value at a geometry-frame point p:  primitive(conj(q) (p - t) / s) * s / L,  L = lipschitz(e)
+//     (a mesh edit's primitive is the exact signed distance to its triangles, brute force with the
+//     winding-number sign (mesh_distance.h), not the grid the kernels sample)
 //   combining, left to right, starting from F = SDF_FAR (the empty field), with v the edit value:
 //     add        k > 0 ? smooth_min(F, v, k)  : min(F, v)
 //     subtract   k > 0 ? smooth_max(F, -v, k) : max(F, -v)

@@ -221,4 +221,47 @@ void write_ply(const TriangleMesh& mesh, const std::filesystem::path& path) {
     write_file_atomic(path, s);
 }
 
+GridFrame grid_frame(const TriangleMesh& mesh, double cell, int padding) {
+    if (!(cell > 0.0) || !std::isfinite(cell))
+        throw SettingError("cell", fmt::format("the mesh grid's cell must be positive and finite, got {}", cell));
+    const Aabb box = mesh.bounds();
+    const glm::dvec3 cells = glm::ceil(box.extent() / cell) + 2.0 * padding;
+    if (cells.x > kMaxGridCells || cells.y > kMaxGridCells || cells.z > kMaxGridCells)
+        throw InputError(fmt::format("a mesh grid of {} x {} x {} cells is more than {} along an axis: use a larger cell",
+                                     cells.x, cells.y, cells.z, kMaxGridCells));
+    GridFrame f;
+    f.origin = glm::dvec3(glm::vec3(box.lo - padding * cell));  // the floats the kernels read
+    f.cell = static_cast<float>(cell);
+    f.dims = glm::ivec3(cells) + 1;
+    return f;
+}
+
+std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution) {
+    const MeshTopology t = topology(mesh);
+    if (!t.closed())
+        throw InputError(fmt::format("{}: the mesh is not closed ({} open edges, {} non-manifold edges of {}): its "
+                                     "inside, and so the sign of its distance, is not defined",
+                                     file, t.open_edges, t.non_manifold_edges, t.edges));
+    if (resolution < 2 || resolution > kMaxMeshResolution)
+        throw InputError(fmt::format("{}: resolution {} is outside 2..{}", file, resolution, kMaxMeshResolution));
+    auto source = std::make_shared<MeshSource>();
+    const glm::dvec3 e = mesh.bounds().extent();
+    const double longest = std::max({e.x, e.y, e.z});
+    if (!(longest > 0.0)) throw InputError(fmt::format("{}: the mesh has no extent", file));
+    source->frame = grid_frame(mesh, longest / resolution, kMeshPadding);
+    source->mesh = std::move(mesh);
+    source->file = std::move(file);
+    source->resolution = resolution;
+    return source;
+}
+
+Edit make_mesh_edit(std::shared_ptr<MeshSource> source, std::uint32_t index) {
+    Edit e;
+    e.primitive = Primitive::Mesh;
+    const glm::dvec3 h = glm::max(glm::abs(source->frame.origin), glm::abs(source->frame.hi()));
+    e.params = {h.x, h.y, h.z, static_cast<double>(index)};
+    e.mesh = std::move(source);
+    return e;
+}
+
 }  // namespace sdfbrick

@@ -8,6 +8,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -38,6 +41,51 @@ struct MeshTopology {
     bool closed() const { return open_edges == 0 && non_manifold_edges == 0; }
 };
 MeshTopology topology(const TriangleMesh& mesh);
+
+// ---- the mesh edit ----
+
+// The grid a mesh edit samples: points origin + (i, j, k) * cell (i fastest) covering the mesh's
+// bounds grown by `padding` cells on every side; origin and cell are the floats the kernels read.
+// Compute a frame once and pass it on (MeshGridBuilder::build): the points per axis come from the
+// cell before rounding, so a frame made again from the rounded cell may differ by one.
+struct GridFrame {
+    glm::dvec3 origin{0.0};
+    double cell = 0.0;
+    glm::ivec3 dims{0};  // points per axis
+    glm::dvec3 hi() const { return origin + glm::dvec3(dims - 1) * cell; }
+    std::size_t points() const {
+        return static_cast<std::size_t>(dims.x) * static_cast<std::size_t>(dims.y) * static_cast<std::size_t>(dims.z);
+    }
+};
+inline constexpr int kMaxGridCells = 4096;  // along one axis
+// Throws InputError for more than kMaxGridCells cells along an axis, SettingError("cell") for a cell
+// that is not positive and finite.
+GridFrame grid_frame(const TriangleMesh& mesh, double cell, int padding);
+
+inline constexpr int kDefaultMeshResolution = 64;  // cells along the longest side of the mesh's bounds
+inline constexpr int kMaxMeshResolution = 1024;
+inline constexpr int kMeshPadding = 2;              // cells around the mesh's bounds
+
+// A mesh as a scene uses it: its triangles, and the grid its edits sample. Shared by every edit (and
+// every copy of the scene) that names the same file at the same resolution.
+struct MeshSource {
+    std::string file;  // as the scene names it
+    TriangleMesh mesh;
+    int resolution = kDefaultMeshResolution;
+    GridFrame frame;
+    // The grid's values (frame.points() floats), converted on the device on first use
+    // (construct/mesh_pool.h) and kept for every later build of the loaded scene.
+    std::vector<float> values;
+    std::mutex mutex;  // guards values
+};
+
+// A scene's mesh: the grid frame of `resolution` cells along the longest side. Throws InputError
+// naming `file` when the mesh is not closed (open or non-manifold edges: the inside, and so the
+// sign of the distance, is not defined) or too large a resolution.
+std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution);
+// A mesh edit of the scene's mesh number `index`: params = the half extents of a box about the
+// mesh's local origin that holds its grid, and the index (kernels/sdf_types.h, SDF_PRIM_MESH).
+Edit make_mesh_edit(std::shared_ptr<MeshSource> source, std::uint32_t index);
 
 // ---- generated meshes (tests, benchmarks) and writers ----
 

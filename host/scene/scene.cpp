@@ -9,7 +9,7 @@ namespace sdfbrick {
 namespace {
 
 constexpr std::array<std::string_view, kPrimitiveCount> kPrimitiveNames = {
-    "sphere", "box", "round_box", "torus", "capsule", "cylinder", "cone", "ellipsoid", "menger"};
+    "sphere", "box", "round_box", "torus", "capsule", "cylinder", "cone", "ellipsoid", "menger", "mesh"};
 constexpr std::array<std::string_view, 3> kOpNames = {"add", "subtract", "intersect"};
 
 // Half extents (local frame) of the box that holds { x : primitive(x) <= c }.
@@ -35,6 +35,10 @@ glm::dvec3 local_level_half_extents(const Edit& e, double c) {
         case Primitive::Menger:
             // The sponge's value is max(box, ...) >= box, so its level set lies in the box's.
             return glm::dvec3(p[0] + c);
+        case Primitive::Mesh:
+            // params hold the grid's box; outside it the value is the distance to the box plus a
+            // boundary value >= 0 (kernels/sdf_edit.h, sdf_mesh).
+            return glm::dvec3(p[0], p[1], p[2]) + c;
     }
     throw std::logic_error("unknown primitive");
 }
@@ -76,12 +80,12 @@ glm::dvec3 Camera::eye_position() const {
     return target + distance * dir;
 }
 
-double lipschitz(const Edit&) {
-    // Every shipped formula is 1-Lipschitz (docs/scene-format.md, "Lipschitz bounds"): the exact
+double lipschitz(const Edit& e) {
+    // Every analytic formula is 1-Lipschitz (docs/scene-format.md, "Lipschitz bounds"): the exact
     // distances trivially; the ellipsoid's (|x/r| - 1) min(r) has gradient norm <= min(r)/min(r);
     // the Menger sponge is a max of 1-Lipschitz terms. tests/reference/test_reference_field.cpp
-    // checks it empirically.
-    return 1.0;
+    // checks it empirically. A mesh's trilinear lookup of exact distances is sqrt(3)-Lipschitz.
+    return e.primitive == Primitive::Mesh ? std::sqrt(3.0) : 1.0;
 }
 
 Aabb local_level_bounds(const Edit& e, double c) {

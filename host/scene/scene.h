@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -28,8 +29,13 @@ enum class Primitive : std::uint32_t {
     Cone = SDF_PRIM_CONE,
     Ellipsoid = SDF_PRIM_ELLIPSOID,
     Menger = SDF_PRIM_MENGER,
+    Mesh = SDF_PRIM_MESH,
 };
 inline constexpr std::size_t kPrimitiveCount = SDF_PRIM_COUNT;
+// The primitives given by a formula (all but Mesh, which needs a file): 0 .. kAnalyticPrimitiveCount - 1.
+inline constexpr std::size_t kAnalyticPrimitiveCount = SDF_PRIM_MESH;
+
+struct MeshSource;  // scene/mesh.h: a mesh edit's triangles and distance grid
 
 enum class Op : std::uint32_t { Add = SDF_OP_ADD, Subtract = SDF_OP_SUBTRACT, Intersect = SDF_OP_INTERSECT };
 
@@ -79,6 +85,9 @@ struct Animation {
 struct Edit {
     Primitive primitive = Primitive::Sphere;
     std::array<double, 4> params{};  // meaning per primitive: see kernels/sdf_types.h
+    // Mesh edits: the mesh, shared by every copy of the edit (scene_at keeps it); params[3] is its
+    // index in the scene (scene/mesh.h, make_mesh_edit).
+    std::shared_ptr<MeshSource> mesh;
     Transform transform;             // primitive frame -> geometry frame
     Op op = Op::Add;
     double blend = 0.0;              // smooth blend radius k (geometry units); 0 = hard
@@ -129,7 +138,8 @@ struct Scene {
 // ---- per-edit properties (scene.cpp) ----
 
 // The primitive's Lipschitz bound L >= 1: |v(a) - v(b)| <= L |a - b| for the primitive's formula.
-// Every shipped formula is 1-Lipschitz (docs/scene-format.md gives the argument; tests check it).
+// Every analytic formula is 1-Lipschitz (docs/scene-format.md gives the argument; tests check it);
+// a mesh's trilinear grid lookup is sqrt(3)-Lipschitz (kernels/sdf_edit.h, sdf_mesh).
 double lipschitz(const Edit& e);
 
 // AABB in the edit's local (primitive) frame of { x : primitive(x) <= c }, c >= 0.

@@ -5,12 +5,14 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/quote.h"
+#include "scene/mesh.h"
 
 namespace sdfbrick {
 
@@ -159,12 +161,14 @@ Primitive read_primitive(const Node& n) {
     return *prim;
 }
 
+// The fields every edit may have.
+constexpr std::array<std::string_view, 7> kCommonEditFields = {"primitive", "position", "rotation", "scale",
+                                                               "op", "blend", "animation"};
+
 // The primitive's own fields (and no unknown key): its parameters, as kernels/sdf_types.h orders them.
 std::array<double, 4> read_params(const Node& n, Primitive prim) {
-    const std::initializer_list<std::string_view> common = {"primitive", "position", "rotation", "scale",
-                                                            "op", "blend", "animation"};
     auto allow = [&](std::initializer_list<std::string_view> own) {
-        std::vector<std::string_view> all(common);
+        std::vector<std::string_view> all(kCommonEditFields.begin(), kCommonEditFields.end());
         all.insert(all.end(), own);
         n.expect_keys(all, "a " + std::string(to_string(prim)));
     };
@@ -222,15 +226,69 @@ std::array<double, 4> read_params(const Node& n, Primitive prim) {
             p[0] = n["half_size"].positive();
             p[1] = n.has("iterations") ? n["iterations"].integer(1, 6) : 3;
             break;
+        case Primitive::Mesh: throw std::logic_error("read_params: mesh edits are read by read_mesh_edit");
     }
     return p;
 }
 
-Edit read_edit(const Node& n) {
+// The scene's meshes: one MeshSource per file and resolution, numbered in order of first use.
+struct MeshCatalog {
+    std::filesystem::path base;  // mesh files are relative to the scene file's folder
+    struct Entry {
+        std::shared_ptr<MeshSource> source;
+        std::uint32_t index = 0;
+    };
+    std::map<std::pair<std::string, int>, Entry> entries;
+};
+
+// The mesh a mesh edit's "file" names. Every refusal names the place in the scene, then the file
+// (load_mesh and make_mesh_source name it first in their messages).
+std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesystem::path& path, int resolution) {
+    const auto named = [&](auto&& step) {
+        try {
+            return step();
+        } catch (const InputError& e) {
+            file.fail(escaped(e.what(), 2 * kPathEchoLimit));
+        }
+    };
+    TriangleMesh mesh = named([&] { return load_mesh(path); });
+    const Aabb b = mesh.bounds();
+    const glm::dvec3 m = glm::max(glm::abs(b.lo), glm::abs(b.hi));
+    const double reach = std::max({m.x, m.y, m.z});
+    if (reach > kSceneNumberLimit)
+        file.fail(fmt::format("{}: a vertex coordinate of magnitude {} is out of range: scene numbers lie in [-{:g}, {:g}]",
+                              escaped(path.string(), kPathEchoLimit), reach, kSceneNumberLimit, kSceneNumberLimit));
+    auto source = named([&] { return make_mesh_source(std::move(mesh), path.string(), resolution); });
+    source->file = file.string();
+    return source;
+}
+
+// A mesh edit's own fields: the file and the grid's resolution (cells along the longest side).
+Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
+    std::vector<std::string_view> allowed(kCommonEditFields.begin(), kCommonEditFields.end());
+    allowed.insert(allowed.end(), {"file", "resolution"});
+    n.expect_keys(allowed, "a mesh");
+    const Node file = n["file"];
+    const std::string name = file.string();
+    if (name.empty()) file.fail("must not be empty");
+    const int resolution =
+        n.has("resolution") ? n["resolution"].integer(2, kMaxMeshResolution) : kDefaultMeshResolution;
+    const std::filesystem::path path = (catalog.base / name).lexically_normal();
+    const auto key = std::pair(path.string(), resolution);
+    auto it = catalog.entries.find(key);
+    if (it == catalog.entries.end()) {
+        const auto index = static_cast<std::uint32_t>(catalog.entries.size());
+        it = catalog.entries.emplace(key, MeshCatalog::Entry{read_mesh_source(file, path, resolution), index}).first;
+    }
+    return make_mesh_edit(it->second.source, it->second.index);
+}
+
+Edit read_edit(const Node& n, MeshCatalog& meshes) {
     if (!n.value().is_object()) n.fail("expected an edit object");
     Edit e;
     e.primitive = read_primitive(n);
-    e.params = read_params(n, e.primitive);
+    if (e.primitive == Primitive::Mesh) e = read_mesh_edit(n, meshes);
+    else e.params = read_params(n, e.primitive);
     read_transform_fields(n, e.transform);
     if (n.has("op")) {
         const Node o = n["op"];
@@ -244,7 +302,7 @@ Edit read_edit(const Node& n) {
     return e;
 }
 
-Geometry read_geometry(const Node& n) {
+Geometry read_geometry(const Node& n, MeshCatalog& meshes) {
     n.expect_object({"name", "edits"});
     Geometry g;
     g.name = n["name"].string();
@@ -254,7 +312,7 @@ Geometry read_geometry(const Node& n) {
     if (count > SDF_MAX_EDITS)
         edits.fail(fmt::format("{} edits; a geometry holds at most {}", count, SDF_MAX_EDITS));
     g.edits.reserve(count);
-    for (std::size_t i = 0; i < count; ++i) g.edits.push_back(read_edit(edits.at(i)));
+    for (std::size_t i = 0; i < count; ++i) g.edits.push_back(read_edit(edits.at(i), meshes));
     return g;
 }
 
@@ -324,7 +382,7 @@ std::string line_column(std::string_view text, std::size_t byte) {
     return fmt::format("line {}, column {}", line, col);
 }
 
-Scene scene_from_json(const json& j, std::string_view origin) {
+Scene scene_from_json(const json& j, std::string_view origin, const std::filesystem::path& base) {
     const Node root(j, "", origin);
     root.expect_object({"version", "name", "time", "geometries", "objects", "camera", "light"});
     if (root.has("version")) {
@@ -338,9 +396,10 @@ Scene scene_from_json(const json& j, std::string_view origin) {
     const std::size_t ng = geos.array_size();
     if (ng == 0) geos.fail("needs at least one geometry");
     std::map<std::string, std::size_t> by_name;
+    MeshCatalog meshes{base, {}};
     for (std::size_t i = 0; i < ng; ++i) {
         const Node g = geos.at(i);
-        s.geometries.push_back(read_geometry(g));
+        s.geometries.push_back(read_geometry(g, meshes));
         if (!by_name.emplace(s.geometries.back().name, i).second)
             g["name"].fail(fmt::format("duplicate geometry name {}", quoted_input(s.geometries.back().name)));
     }
@@ -438,11 +497,13 @@ json parse_json_text(std::string_view text, std::string_view origin) {
 
 json load_json(const std::filesystem::path& path) { return parse_json_text(read_file(path), path.string()); }
 
-Scene parse_scene(std::string_view text, std::string_view origin) {
-    return scene_from_json(parse_json_text(text, origin), escaped(origin, kPathEchoLimit));
+Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base) {
+    return scene_from_json(parse_json_text(text, origin), escaped(origin, kPathEchoLimit), base);
 }
 
-Scene load_scene(const std::filesystem::path& path) { return parse_scene(read_file(path), path.string()); }
+Scene load_scene(const std::filesystem::path& path) {
+    return parse_scene(read_file(path), path.string(), path.parent_path());
+}
 
 namespace {
 
@@ -469,6 +530,10 @@ json edit_to_json(const Edit& e) {
         case Primitive::Cone: j["half_height"] = p[0]; j["radius_bottom"] = p[1]; j["radius_top"] = p[2]; break;
         case Primitive::Ellipsoid: j["radii"] = {p[0], p[1], p[2]}; break;
         case Primitive::Menger: j["half_size"] = p[0]; j["iterations"] = static_cast<int>(p[1]); break;
+        case Primitive::Mesh:
+            j["file"] = e.mesh->file;
+            if (e.mesh->resolution != kDefaultMeshResolution) j["resolution"] = e.mesh->resolution;
+            break;
     }
     write_transform_fields(j, e.transform);
     if (e.op != Op::Add) j["op"] = std::string(to_string(e.op));

@@ -21,9 +21,10 @@ inline constexpr int kSceneFormatVersion = 1;
 // constant or distance the kernels compute overflows.
 inline constexpr double kSceneNumberLimit = 1e6;
 
+// Mesh files that a scene names are read relative to the scene file's folder (parse_scene: `base`).
 Scene load_scene(const std::filesystem::path& path);
 // `origin` names the source in error messages (a file name, or "<string>").
-Scene parse_scene(std::string_view text, std::string_view origin);
+Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base = {});
 
 nlohmann::json scene_to_json(const Scene& s);
 // Readable text: one edit per line, short arrays inline.

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
@@ -137,6 +138,7 @@ Edit random_edit(Rng& rng, Primitive p, double size) {
         case Primitive::Cone: e.params = {u(0.1, 1.5), u(0.0, 0.8), u(0.0, 0.8), 0}; break;
         case Primitive::Ellipsoid: e.params = {u(0.05, 1.0), u(0.05, 1.0), u(0.05, 1.0), 0}; break;
         case Primitive::Menger: e.params = {u(0.2, 1.0), double(1 + rng.next() % 6), 0, 0}; break;
+        case Primitive::Mesh: throw std::invalid_argument("random_edit: a mesh needs a file");
     }
     e.transform.rotation = rng.rotation();
     e.transform.scale = rng.uniform(0.3, 3.0);
@@ -144,7 +146,7 @@ Edit random_edit(Rng& rng, Primitive p, double size) {
     return e;
 }
 
-Primitive random_primitive(Rng& rng) { return static_cast<Primitive>(rng.next() % kPrimitiveCount); }
+Primitive random_primitive(Rng& rng) { return static_cast<Primitive>(rng.next() % kAnalyticPrimitiveCount); }
 
 // n edits in a box of side `spread`, sizes ~ size, smooth with probability `smooth`.
 Geometry random_geometry(std::uint64_t seed, std::size_t n, double spread, double size, double smooth) {
@@ -180,7 +182,7 @@ void expect_contains(const SdfBounds& device, const Aabb& host, const std::strin
 TEST(ConstructEditBounds, ContainHostBoundsEveryPrimitive) {
     Rng rng(7);
     Geometry g{"bounds", {}};
-    for (std::size_t p = 0; p < kPrimitiveCount; ++p)
+    for (std::size_t p = 0; p < kAnalyticPrimitiveCount; ++p)
         for (int i = 0; i < 60; ++i) {
             const double size = std::pow(10.0, rng.uniform(-2.0, 2.0));
             Edit e = random_edit(rng, static_cast<Primitive>(p), size);

@@ -9,7 +9,7 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
                            __global const SdfBrick* brick, __global const SdfCamera* camera,
                            __global const SdfBvhNode* node, __global const SdfInstance* instance,
                            __global const SdfBrickGeometry* geometry, __global const SdfShading* shading,
-                           __global uint* out) {
+                           __global const SdfMeshGrid* mesh, __global uint* out) {
     if (get_global_id(0) != 0) return;
     uint n = 0;
     out[n++] = (uint)sizeof(SdfTransform);
@@ -58,5 +58,10 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
     out[n++] = SDF_OFF(shading, ray_offset);
     out[n++] = SDF_OFF(shading, shadow_rays);
     out[n++] = SDF_OFF(shading, ao_rays);
+    out[n++] = (uint)sizeof(SdfMeshGrid);
+    out[n++] = SDF_OFF(mesh, cell);
+    out[n++] = SDF_OFF(mesh, inv_cell);
+    out[n++] = SDF_OFF(mesh, dims);
+    out[n++] = SDF_OFF(mesh, offset);
     out[n++] = 0xC0FFEEu; /* end marker: the host checks it to know the list was not cut short */
 }

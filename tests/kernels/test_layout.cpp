@@ -62,6 +62,11 @@ std::vector<cl_uint> host_layout() {
             offsetof(SdfShading, ray_offset),
             offsetof(SdfShading, shadow_rays),
             offsetof(SdfShading, ao_rays),
+            sizeof(SdfMeshGrid),
+            offsetof(SdfMeshGrid, cell),
+            offsetof(SdfMeshGrid, inv_cell),
+            offsetof(SdfMeshGrid, dims),
+            offsetof(SdfMeshGrid, offset),
             0xC0FFEEu};
 }
 
@@ -76,6 +81,7 @@ TEST(KernelsLayout, HostSizesHaveNoPadding) {
     static_assert(sizeof(SdfInstance) == 16 * 4);
     static_assert(sizeof(SdfBrickGeometry) == 8 * 4);
     static_assert(sizeof(SdfShading) == 12 * 4);
+    static_assert(sizeof(SdfMeshGrid) == 12 * 4);  // the mesh pool holds headers as 12 floats each
     static_assert(alignof(SdfEdit) == 4 && alignof(SdfBrick) == 4);
 }
 
@@ -92,8 +98,9 @@ TEST(KernelsLayout, DeviceMatchesHost) {
     ocl::Buffer<SdfInstance> instance(device, 1);
     ocl::Buffer<SdfBrickGeometry> geometry(device, 1);
     ocl::Buffer<SdfShading> shading(device, 1);
+    ocl::Buffer<SdfMeshGrid> mesh(device, 1);
     ocl::Buffer<cl_uint> out(device, std::vector<cl_uint>(expected.size() + 4, 0u));
-    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, instance, geometry, shading, out);
+    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, instance, geometry, shading, mesh, out);
     ocl::enqueue(device, kernel.get(), "layout_probe", 1);
     const std::vector<cl_uint> got = out.read();
     const char* names[] = {"sizeof SdfTransform", "sizeof SdfEdit", "sizeof SdfBounds", "sizeof SdfBrick",
@@ -108,7 +115,9 @@ TEST(KernelsLayout, DeviceMatchesHost) {
                            "sizeof SdfBrickGeometry", "SdfBrickGeometry.inv_voxel", "SdfBrickGeometry.dequant",
                            "SdfBrickGeometry.root", "SdfBrickGeometry.brick_offset", "sizeof SdfShading",
                            "SdfShading.light_color", "SdfShading.shadow_spread", "SdfShading.ao_radius",
-                           "SdfShading.ray_offset", "SdfShading.shadow_rays", "SdfShading.ao_rays", "end marker"};
+                           "SdfShading.ray_offset", "SdfShading.shadow_rays", "SdfShading.ao_rays", "sizeof SdfMeshGrid",
+                           "SdfMeshGrid.cell", "SdfMeshGrid.inv_cell", "SdfMeshGrid.dims", "SdfMeshGrid.offset",
+                           "end marker"};
     ASSERT_EQ(std::size(names), expected.size());
     for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(got[i], expected[i]) << names[i];
 }

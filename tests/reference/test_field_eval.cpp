@@ -98,7 +98,7 @@ std::vector<Edit> one_of_each_primitive() {
 
 TEST(ReferenceFieldEval, EveryPrimitive) {
     const auto prims = one_of_each_primitive();
-    ASSERT_EQ(prims.size(), kPrimitiveCount);
+    ASSERT_EQ(prims.size(), kAnalyticPrimitiveCount);
     for (const Edit& e : prims) {
         expect_agreement(Geometry{"g", {e}}, std::string(to_string(e.primitive)));
         expect_agreement(Geometry{"g", {transformed(e)}}, std::string(to_string(e.primitive)) + " transformed");

@@ -301,7 +301,7 @@ TEST(ReferenceEdit, TransformedCapsuleAndCone) {
 
 TEST(ReferenceEdit, ValueIsScaledPrimitiveOfLocalPoint) {
     Rng rng(11);
-    for (std::uint32_t k = 0; k < kPrimitiveCount; ++k) {
+    for (std::uint32_t k = 0; k < kAnalyticPrimitiveCount; ++k) {
         const auto p = static_cast<Primitive>(k);
         const std::array<double, 4> params = p == Primitive::Menger ? P(1.2, 3) : P(0.8, 0.6, 0.7, 0.2);
         for (int i = 0; i < 50; ++i) {
@@ -478,6 +478,7 @@ std::array<double, 4> random_params(Rng& rng, Primitive p) {
     case Primitive::Cone: return {rng.uniform(0.05, 2.0), rng.uniform(0.0, 2.0), rng.uniform(0.0, 2.0), 0.0};
     case Primitive::Ellipsoid: return {rng.uniform(0.05, 3), rng.uniform(0.05, 3), rng.uniform(0.05, 3), 0.0};
     case Primitive::Menger: return {rng.uniform(0.3, 2.0), std::floor(rng.uniform(1.0, 7.0)), 0.0, 0.0};
+    case Primitive::Mesh: break;  // not a formula: tests/construct/test_mesh_edit.cpp
     }
     return {};
 }
@@ -499,7 +500,7 @@ std::pair<glm::dvec3, glm::dvec3> random_pair(Rng& rng, const glm::dvec3& lo, co
 
 TEST(ReferenceLipschitz, Primitives) {
     Rng rng(21);
-    for (std::uint32_t k = 0; k < kPrimitiveCount; ++k) {
+    for (std::uint32_t k = 0; k < kAnalyticPrimitiveCount; ++k) {
         const auto p = static_cast<Primitive>(k);
         for (int set = 0; set < 6; ++set) {
             const Edit e = make_edit(p, random_params(rng, p), Op::Add, 0.0, random_transform(rng));
@@ -525,7 +526,7 @@ TEST(ReferenceLipschitz, Primitives) {
 Geometry random_geometry(Rng& rng, int edits, bool allow_smooth = true, bool allow_intersect = true) {
     Geometry g;
     for (int i = 0; i < edits; ++i) {
-        const auto p = static_cast<Primitive>(static_cast<std::uint32_t>(rng.uniform(0.0, double(kPrimitiveCount))));
+        const auto p = static_cast<Primitive>(static_cast<std::uint32_t>(rng.uniform(0.0, double(kAnalyticPrimitiveCount))));
         Transform t = random_transform(rng);
         t.translation *= 0.3;
         t.scale = rng.uniform(0.3, 1.2);
@@ -577,6 +578,7 @@ double local_radius(const Edit& e) {
     case Primitive::Cone: return std::hypot(q[0], std::max(q[1], q[2]));
     case Primitive::Ellipsoid: return std::max(q[0], std::max(q[1], q[2]));
     case Primitive::Menger: return q[0] * std::sqrt(3.0);
+    case Primitive::Mesh: break;
     }
     return 0.0;
 }
@@ -589,7 +591,7 @@ bool inside(const Aabb& b, const glm::dvec3& p, double tol) {
 TEST(ReferenceLevelBounds, PointsBelowTheLevelAreInside) {
     Rng rng(31);
     int failures = 0;
-    for (std::uint32_t k = 0; k < kPrimitiveCount; ++k) {
+    for (std::uint32_t k = 0; k < kAnalyticPrimitiveCount; ++k) {
         const auto p = static_cast<Primitive>(k);
         for (int set = 0; set < 6; ++set) {
             Edit e = make_edit(p, random_params(rng, p), Op::Add, 0.0, random_transform(rng));

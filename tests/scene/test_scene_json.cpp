@@ -61,7 +61,7 @@ TEST(SceneJson, EveryPrimitiveAndOpRoundTrips) {
     const Scene b = parse_scene(format_scene(a), "again.json");
     EXPECT_EQ(format_scene(a), format_scene(b));
     ASSERT_EQ(b.geometries[0].edits.size(), 9u);
-    for (std::size_t i = 0; i < kPrimitiveCount; ++i) EXPECT_EQ(static_cast<std::size_t>(b.geometries[0].edits[i].primitive), i);
+    for (std::size_t i = 0; i < kAnalyticPrimitiveCount; ++i) EXPECT_EQ(static_cast<std::size_t>(b.geometries[0].edits[i].primitive), i);
     EXPECT_EQ(b.geometries[0].edits[1].op, Op::Subtract);
     EXPECT_EQ(b.geometries[0].edits[2].op, Op::Intersect);
     EXPECT_EQ(b.geometries[0].edits[8].params[1], 4.0);
