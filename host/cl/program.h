@@ -4,7 +4,8 @@
 // Every program is built with -cl-std=CL1.2, plus -cl-fp32-correctly-rounded-divide-sqrt where the
 // device supports it, plus -cl-nv-verbose on NVIDIA devices (cl_nv_device_attribute_query: the build
 // log then reports each kernel's registers, see measure/kernel_attributes.h), and its source starts
-// with '#pragma OPENCL FP_CONTRACT OFF'. Options that
+// with '#pragma OPENCL FP_CONTRACT OFF' (on PoCL it ends with an empty kernel named after the device,
+// so that two PoCL devices never share a program hash: see program.cpp). Options that
 // change floating-point results (fast/relaxed math, mad, ...) are refused.
 //
 // Disk cache directory: $SDFBRICK_CACHE_DIR ("off" disables the disk cache), else
