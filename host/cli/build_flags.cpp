@@ -80,9 +80,4 @@ nlohmann::json settings_json(const construct::BuildSettings& s) {
             {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 
-void refuse_split_repeat(const MeasureFlags& measure) {
-    if (measure.repeat != 1)
-        throw InputError("--repeat: a split run times one pass (--devices split); use --warmup for warm-up passes");
-}
-
 }  // namespace sdfbrick::cli

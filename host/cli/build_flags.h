@@ -45,9 +45,6 @@ struct MeasureFlags {
     int warmups() const { return warmup.value_or(repeat > 1 ? 1 : 0); }
 };
 
-// A split run is one timed pass (after its warm-ups): --repeat above 1 is refused with --devices split.
-void refuse_split_repeat(const MeasureFlags& measure);
-
 nlohmann::json settings_json(const construct::BuildSettings& s);
 
 }  // namespace sdfbrick::cli

@@ -115,7 +115,6 @@ DeviceBuildReport build_on(ocl::Device& device, const Scene& scene, const BuildO
 
 // --devices split: one build shared by the devices.
 void run_build_split(const BuildOptions& o, const GlobalOptions& global, const Scene& scene) {
-    refuse_split_repeat(o.measure);
     SplitDevices d = open_split_devices(global);
     const TuningChoice tuning = open_tuning(global);
     pipeline::SplitSpec spec;
@@ -127,6 +126,7 @@ void run_build_split(const BuildOptions& o, const GlobalOptions& global, const S
         spec.build.push_back(s);
     }
     spec.warmup = o.measure.warmups();
+    spec.repeat = o.measure.repeat;
     spec.rates = &d.rates;
     const pipeline::SplitRun run = pipeline::run_split(d.devices, scene, spec);
     nlohmann::json j = pipeline::to_json(run);

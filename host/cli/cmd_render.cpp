@@ -380,7 +380,6 @@ std::vector<Output> picture_outputs(const RenderOptions& o, const DeviceRender& 
 void run_render_split(const RenderOptions& o, const GlobalOptions& global, const Scene& scene,
                       const std::filesystem::path& out) {
     if (o.reference || o.compare) throw InputError("--devices split renders bricks: --reference and --compare need --devices replicate");
-    refuse_split_repeat(o.measure);
     SplitDevices d = open_split_devices(global);
     const TuningChoice tuning = open_tuning(global);
     pipeline::SplitSpec spec;
@@ -396,6 +395,7 @@ void run_render_split(const RenderOptions& o, const GlobalOptions& global, const
         spec.trace.push_back(trace);
     }
     spec.warmup = o.measure.warmups();
+    spec.repeat = o.measure.repeat;
     spec.rates = &d.rates;
     const pipeline::SplitRun run = pipeline::run_split(d.devices, scene, spec);
     write_image(picture(o.mode, run.trace->buffer, run.trace->colour, out), out);

@@ -112,18 +112,31 @@ std::string to_text(const StageSplit& s) {
 
 nlohmann::json to_json(const SplitRun& r) {
     nlohmann::json j{{"bricks", r.leaf_count}, {"brick_digest", r.brick_digest}, {"list_digest", r.list_digest},
-                     {"construct", to_json(r.construct)}};
+                     {"construct", to_json(r.construct)}, {"identical", r.identical}};
+    j["construct"]["captures"] = measure::to_json(r.construct_ms);
     if (r.trace) {
         j["trace_digest"] = r.trace_digest;
         j["trace"] = to_json(r.tracing);
+        j["trace"]["captures"] = measure::to_json(r.trace_ms);
     }
     return j;
 }
 
+namespace {
+
+std::string captures_text(const char* stage, const measure::Spread& s) {
+    if (s.samples.size() < 2) return "";
+    return fmt::format("{} wall over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n", stage,
+                       s.samples.size(), s.median, s.min, s.max, 100.0 * s.cv);
+}
+
+}  // namespace
+
 std::string to_text(const SplitRun& r) {
     std::string text = fmt::format("bricks {}  digest {}  edit lists {}\n", r.leaf_count, r.brick_digest, r.list_digest);
-    text += to_text(r.construct);
-    if (r.trace) text += fmt::format("image digest {}\n", r.trace_digest) + to_text(r.tracing);
+    text += to_text(r.construct) + captures_text("construct", r.construct_ms);
+    if (r.trace) text += fmt::format("image digest {}\n", r.trace_digest) + to_text(r.tracing) + captures_text("trace", r.trace_ms);
+    if (!r.identical) text += "CAPTURES DIFFER: the passes gave different digests\n";
     return text;
 }
 
@@ -643,7 +656,7 @@ SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene,
     if (devices.empty()) throw std::invalid_argument("run_split: no device");
     if (spec.build.size() != devices.size() || (spec.work == Work::trace && spec.trace.size() != devices.size()))
         throw std::invalid_argument("run_split: one build (and trace) setting per device");
-    if (spec.warmup < 0) throw std::invalid_argument("run_split: warmup >= 0");
+    if (spec.warmup < 0 || spec.repeat < 1) throw std::invalid_argument("run_split: warmup >= 0, repeat >= 1");
     if (spec.work == Work::bvh) throw std::invalid_argument("run_split: construct or trace");
     std::vector<Lane> lanes(devices.size());
     for (std::size_t i = 0; i < devices.size(); ++i) {
@@ -654,7 +667,21 @@ SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene,
     // builds. The last pass's rates are stored.
     const std::optional<RateStore> basis = spec.rates ? std::optional<RateStore>(*spec.rates) : std::nullopt;
     SplitRun out;
-    for (int pass = 0; pass <= spec.warmup; ++pass) out = split_pass(lanes, scene, spec, basis ? &*basis : nullptr);
+    std::vector<double> construct_ms, trace_ms;
+    bool identical = true;
+    for (int pass = 0; pass < spec.warmup + spec.repeat; ++pass) {
+        SplitRun run = split_pass(lanes, scene, spec, basis ? &*basis : nullptr);
+        if (pass < spec.warmup) continue;
+        construct_ms.push_back(run.construct.wall_ms);
+        if (run.trace) trace_ms.push_back(run.tracing.wall_ms);
+        if (pass > spec.warmup)
+            identical = identical && run.brick_digest == out.brick_digest && run.list_digest == out.list_digest &&
+                        run.trace_digest == out.trace_digest;
+        out = std::move(run);
+    }
+    out.construct_ms = measure::spread_of(construct_ms);
+    out.trace_ms = measure::spread_of(trace_ms);
+    out.identical = identical;
     if (spec.rates) spec.rates->save();
     return out;
 }

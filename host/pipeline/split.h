@@ -20,6 +20,7 @@
 
 #include "cl/device.h"
 #include "construct/brick_builder.h"
+#include "measure/statistics.h"
 #include "pipeline/run.h"
 #include "render/brick_tracer.h"
 
@@ -92,6 +93,7 @@ struct SplitSpec {
     std::vector<construct::BuildSettings> build;
     std::vector<render::TraceSettings> trace;
     int warmup = 0;
+    int repeat = 1;  // timed passes (captures) after the warm-ups
     bool brick_digests = true;
     RateStore* rates = nullptr;  // shares from it; the measured rates are written back
 };
@@ -101,7 +103,10 @@ struct SplitRun {
     std::optional<render::TraceResult> trace;
     std::string brick_digest, list_digest, trace_digest;
     std::uint64_t leaf_count = 0;
-    StageSplit construct, tracing;  // tracing.stage empty when not traced
+    StageSplit construct, tracing;  // of the last pass; tracing.stage empty when not traced
+    // Wall time of each stage in each timed pass, and whether every pass gave the same digests.
+    measure::Spread construct_ms, trace_ms;
+    bool identical = true;
 };
 
 // Digests, leaf count and the stages' splits.
