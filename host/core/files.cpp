@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <cstdlib>
 #include <fstream>
 
 #include <fmt/format.h>
@@ -133,6 +134,18 @@ void finish_stdout() {
         std::clearerr(stdout);
         throw InputError(fmt::format("standard output: write failed: {}", error ? std::strerror(error) : "I/O error"));
     }
+}
+
+std::optional<std::filesystem::path> config_file(const char* env, std::string_view name) {
+    if (const char* value = std::getenv(env); value != nullptr && *value != '\0') {
+        if (std::string_view(value) == "off") return std::nullopt;
+        return std::filesystem::path(value);
+    }
+    if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && *xdg != '\0')
+        return std::filesystem::path(xdg) / "sdfbrick" / name;
+    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
+        return std::filesystem::path(home) / ".config" / "sdfbrick" / name;
+    return std::nullopt;
 }
 
 }  // namespace sdfbrick

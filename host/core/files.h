@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,5 +50,9 @@ void check_output_path(const std::filesystem::path& path);
 // Flushes standard output; throws InputError("standard output: write failed: reason") when any
 // write to it failed (closed, full, a broken pipe).
 void finish_stdout();
+
+// A user configuration file named `name`: $env when it is set ("off": none), else
+// $XDG_CONFIG_HOME/sdfbrick/name, else $HOME/.config/sdfbrick/name; std::nullopt when none applies.
+std::optional<std::filesystem::path> config_file(const char* env, std::string_view name);
 
 }  // namespace sdfbrick

@@ -38,17 +38,7 @@ std::string device_key(const ocl::DeviceInfo& d) {
 
 }  // namespace
 
-std::optional<std::filesystem::path> RateStore::default_path() {
-    if (const char* env = std::getenv(kEnv); env != nullptr && *env != '\0') {
-        if (std::string_view(env) == "off") return std::nullopt;
-        return std::filesystem::path(env);
-    }
-    if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && *xdg != '\0')
-        return std::filesystem::path(xdg) / "sdfbrick" / "rates.json";
-    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
-        return std::filesystem::path(home) / ".config" / "sdfbrick" / "rates.json";
-    return std::nullopt;
-}
+std::optional<std::filesystem::path> RateStore::default_path() { return config_file(kEnv, "rates.json"); }
 
 RateStore::RateStore(std::optional<std::filesystem::path> path) : path_(std::move(path)) {
     if (!path_ || !std::filesystem::exists(*path_)) return;

@@ -37,17 +37,7 @@ std::string_view layer_of(Source s) {
     return "?";
 }
 
-std::optional<std::filesystem::path> TuningDb::default_path() {
-    if (const char* env = std::getenv(kTuningDbEnv); env != nullptr && *env != '\0') {
-        if (std::string_view(env) == "off") return std::nullopt;
-        return std::filesystem::path(env);
-    }
-    if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && *xdg != '\0')
-        return std::filesystem::path(xdg) / "sdfbrick" / "tuning.json";
-    if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0')
-        return std::filesystem::path(home) / ".config" / "sdfbrick" / "tuning.json";
-    return std::nullopt;
-}
+std::optional<std::filesystem::path> TuningDb::default_path() { return config_file(kTuningDbEnv, "tuning.json"); }
 
 TuningDb TuningDb::load(const std::filesystem::path& path, Layers layers) {
     TuningDb db(layers);
