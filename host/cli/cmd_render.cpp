@@ -299,8 +299,7 @@ DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOpti
     } else if (o.compare) {
         r.report.bricks->accuracy = reference::compare(r.buffer, *r.reference, r.report.bricks->figures.voxel_world);
         if (r.bricks)
-            r.report.bricks->seams = render::count_seam_mismatches(
-                scene, *r.bricks, make_camera(scene.camera, o.trace.width, o.trace.height), r.buffer, *r.reference);
+            r.report.bricks->seams = render::count_seam_mismatches(scene, *r.bricks, r.buffer, *r.reference);
     }
     return r;
 }

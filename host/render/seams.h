@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "image/render_buffer.h"
+#include "construct/domain.h"
 #include "render/brick_tracer.h"
 #include "scene/scene.h"
 
@@ -24,7 +25,7 @@ class LeafCells {
 public:
     explicit LeafCells(const construct::GeometryBuild& b);
 
-    std::size_t leaf_count() const { return leaves_; }
+    std::size_t leaf_count() const;
     // The level of the leaf whose cell contains p (geometry frame), if any.
     std::optional<int> level_at(const glm::dvec3& p) const;
     // Whether p lies in a leaf, within one of that leaf's voxels of a face across which the space
@@ -34,15 +35,12 @@ public:
     std::size_t seam_leaves(int interior) const;
 
 private:
-    double cell(int level) const;
     bool has(int level, const glm::ivec3& c) const;
+    glm::ivec3 cell_at(int level, const glm::dvec3& p) const;
 
-    glm::dvec3 origin_{0.0};
-    double leaf_size_ = 0.0;
-    int levels_ = 0, branching_ = 4, coarsest_ = 0;
-    std::size_t leaves_ = 0;
-    std::vector<std::vector<glm::ivec3>> by_level_;
-    std::vector<std::unordered_set<std::uint64_t>> index_;  // per level: the leaves' cells
+    construct::Domain domain_;
+    int coarsest_ = 0;
+    std::vector<std::unordered_set<std::uint64_t>> cells_;  // per level: the leaves' cells
 };
 
 struct SeamMismatches {
@@ -52,10 +50,10 @@ struct SeamMismatches {
 };
 nlohmann::json to_json(const SeamMismatches& s);
 
-// The hit/miss mismatches between test and reference (both camera's images of scene traced against
-// bricks), sorted by seam. The surface point of a mismatch is the hit of whichever image has one;
-// reference pixels flagged unconverged are left out as compare() leaves them out.
-SeamMismatches count_seam_mismatches(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                                     const RenderBuffer& test, const RenderBuffer& reference);
+// The hit/miss mismatches between test and reference (images of scene through its camera, test
+// traced against bricks), sorted by seam. The surface point of a mismatch is the hit of whichever
+// image has one; reference pixels flagged unconverged are left out as compare() leaves them out.
+SeamMismatches count_seam_mismatches(const Scene& scene, const SceneBricks& bricks, const RenderBuffer& test,
+                                     const RenderBuffer& reference);
 
 }  // namespace sdfbrick::render
