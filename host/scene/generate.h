@@ -14,7 +14,7 @@ namespace sdfbrick {
 
 inline constexpr std::uint64_t kDefaultSceneSeed = 1;
 
-// Names: spheres, drops, cubes, rain, fractal, board, thin. Unknown name -> InputError.
+// Names: generated_scene_names(). Unknown name -> InputError.
 Scene generate_scene(std::string_view name, std::uint64_t seed = kDefaultSceneSeed);
 std::span<const std::string_view> generated_scene_names();
 
