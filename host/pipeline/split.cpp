@@ -79,7 +79,8 @@ nlohmann::json to_json(const StageSplit& s) {
     nlohmann::json devices = nlohmann::json::array();
     for (const DeviceShare& d : s.devices)
         devices.push_back({{"device", d.device}, {"name", d.name}, {"planned", d.planned}, {"done", d.done},
-                           {"busy_ms", d.busy_ms}, {"idle_ms", d.idle_ms}, {"rate", d.rate},
+                           {"busy_ms", d.busy_ms}, {"idle_ms", d.idle_ms}, {"kernels_ms", d.kernels_ms},
+                           {"copies_ms", d.copies_ms}, {"copied_bytes", d.copied_bytes}, {"rate", d.rate},
                            {"failure", d.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.failure)},
                            {"limit", d.limit.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.limit)}});
     return {{"stage", s.stage}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
@@ -94,6 +95,9 @@ std::string to_text(const StageSplit& s) {
     for (const DeviceShare& d : s.devices) {
         text += fmt::format("  device {} [{}]: planned {:.1f}%, done {:.1f}%, busy {:.1f} ms, idle at end {:.1f} ms",
                             d.device, d.name, 100.0 * d.planned, 100.0 * d.done, d.busy_ms, d.idle_ms);
+        if (d.busy_ms > 0.0)
+            text += fmt::format(" (kernels {:.1f} ms, copies {:.1f} ms for {:.0f} MB)", d.kernels_ms, d.copies_ms,
+                                static_cast<double>(d.copied_bytes) / 1e6);
         if (!d.limit.empty()) text += fmt::format("; smaller parts: {}", d.limit);
         text += d.failure.empty() ? "\n" : fmt::format("; FAILED: {}\n", d.failure);
     }
@@ -170,6 +174,19 @@ struct Lane {
     std::string failure;
     std::exception_ptr error;
     double cap = 1.0;  // the widest part it may take: less after it could not hold one
+    // This stage's kernel device time and host-device copies so far (DeviceShare's fields).
+    double kernels_ms = 0.0, copies_ms = 0.0;
+    std::uint64_t copied_bytes = 0;
+
+    // Runs copy() as one of the lane's host-device copies of `bytes`.
+    template <class Fn>
+    auto copy(std::uint64_t bytes, Fn&& fn) {
+        const auto t0 = Clock::now();
+        auto out = fn();
+        copies_ms += ms_since(t0);
+        copied_bytes += bytes;
+        return out;
+    }
 
     bool alive() const { return failure.empty(); }
 };
@@ -266,7 +283,11 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
     std::vector<Part<Result>> done;
     std::vector<Interval> pending{{0.0, 1.0}};
     std::vector<double> last_end(lanes.size(), 0.0);
-    for (Lane& l : lanes) l.cap = 1.0;  // what a device could not hold in another stage may fit in this one
+    for (Lane& l : lanes) {
+        l.cap = 1.0;  // what a device could not hold in another stage may fit in this one
+        l.kernels_ms = l.copies_ms = 0.0;
+        l.copied_bytes = 0;
+    }
     bool first_round = true;
     while (!pending.empty()) {
         if (std::none_of(lanes.begin(), lanes.end(), [](const Lane& l) { return l.alive(); })) throw_all_failed(lanes);
@@ -316,6 +337,9 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
         DeviceShare& d = report.devices[i];
         d.failure = lanes[i].failure;
         d.idle_ms = report.wall_ms - last_end[i];  // the whole stage for a device without a part
+        d.kernels_ms = lanes[i].kernels_ms;
+        d.copies_ms = lanes[i].copies_ms;
+        d.copied_bytes = lanes[i].copied_bytes;
     }
     std::sort(done.begin(), done.end(), [](const Part<Result>& a, const Part<Result>& b) { return a.span.f0 < b.span.f0; });
     return done;
@@ -385,12 +409,13 @@ struct HostBuild {
     std::vector<SdfBounds> aabbs;
 };
 
-HostBuild to_host(construct::GeometryBuild b) {
+HostBuild to_host(construct::GeometryBuild b, Lane& lane) {
     HostBuild h;
-    h.leaves = b.leaves->read();
-    h.lists = b.leaf_edit_indices->read();
-    h.pool = b.pool->read();
-    h.aabbs = b.aabbs->read();
+    const auto read = [&](const auto& buffer) { return lane.copy(buffer.bytes(), [&] { return buffer.read(); }); };
+    h.leaves = read(*b.leaves);
+    h.lists = read(*b.leaf_edit_indices);
+    h.pool = read(*b.pool);
+    h.aabbs = read(*b.aabbs);
     b.leaves.reset();
     b.leaf_edit_indices.reset();
     b.pool.reset();
@@ -414,11 +439,12 @@ std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construc
             total = prefix.back();
             return range;
         }};
-        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees));
+        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees), lane);
         h.split_level = split_level;
         h.total_weight = total;
         out.push_back(std::move(h));
     }
+    lane.kernels_ms += scheduler.total_ms();
     return out;
 }
 
@@ -552,7 +578,11 @@ std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& sc
 render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vector<HostBuild>& merged,
                                 const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
     try {
-        render::SceneBricks b = upload_scene(merged, settings, *lane.device);
+        std::uint64_t bytes = 0;
+        for (const HostBuild& h : merged)
+            bytes += sizeof(SdfBrick) * h.leaves.size() + sizeof(cl_uint) * (h.lists.size() + h.leaves.size()) +
+                     h.pool.size() + sizeof(SdfBounds) * h.aabbs.size();
+        render::SceneBricks b = lane.copy(bytes, [&] { return upload_scene(merged, settings, *lane.device); });
         render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
         return b;
     } catch (const std::exception& e) {
@@ -582,7 +612,10 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
         if (!lane.traced) lane.traced = traced_copy(lane, scene, merged, spec.build[lane.slot], scheduler);
         const auto [a, b] = covered(prefix, iv);
         const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
-        return lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot], scheduler, rows);
+        render::TraceResult r = lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot],
+                                                            scheduler, rows);
+        lane.kernels_ms += scheduler.total_ms();
+        return r;
     });
     render::TraceResult out;
     out.buffer = RenderBuffer(first.width, first.height);

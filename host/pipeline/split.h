@@ -66,6 +66,12 @@ struct DeviceShare {
     double done = 0.0;      // fraction it did (planned, less what failed, plus what it redid)
     double busy_ms = 0.0;   // wall time of its shares
     double idle_ms = 0.0;   // from the end of its last share to the end of the stage
+    // What the busy time went to: device time of its kernels, and host wall time of its copies
+    // between host and device (construction: leaves, lists, pool and boxes read back; trace: the
+    // merged bricks uploaded) with the bytes they moved. The rest is host work and waiting.
+    double kernels_ms = 0.0;
+    double copies_ms = 0.0;
+    std::uint64_t copied_bytes = 0;
     double rate = 0.0;      // work units per ms it reached (0 when it did nothing)
     std::string failure;    // why it left the run ("" when it did not)
     std::string limit;      // why its parts were made smaller ("" when they were not)

@@ -90,6 +90,15 @@ TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
         EXPECT_EQ(split["bricks"], one["bricks"]) << scene;
         EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << scene;
         for (const auto& d : split["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << scene;
+        // Where the time went: every device ran kernels and copied; each tracing device received the
+        // whole merged scene, so the same bytes.
+        for (const char* stage : {"construct", "trace"})
+            for (const auto& d : split[stage]["devices"]) {
+                EXPECT_GT(d["kernels_ms"].get<double>(), 0.0) << stage;
+                EXPECT_GT(d["copied_bytes"].get<std::uint64_t>(), 0u) << stage;
+                EXPECT_LE(d["copies_ms"].get<double>(), d["busy_ms"].get<double>()) << stage;
+            }
+        EXPECT_EQ(split["trace"]["devices"][0]["copied_bytes"], split["trace"]["devices"][1]["copied_bytes"]);
     }
 }
 
