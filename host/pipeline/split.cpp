@@ -47,16 +47,21 @@ RateStore::RateStore(std::optional<std::filesystem::path> path) : path_(std::mov
         throw InputError(fmt::format("{}: not a device rate store (a JSON object of devices)", path_->string()));
 }
 
-std::optional<double> RateStore::rate(const ocl::DeviceInfo& device, std::string_view stage) const {
+std::optional<double> RateStore::rate(const ocl::DeviceInfo& device, std::string_view workload,
+                                      std::string_view stage) const {
     const auto d = data_.find(device_key(device));
     if (d == data_.end() || !d->is_object()) return std::nullopt;
-    const auto r = d->find(std::string(stage));
-    if (r == d->end() || !r->is_number() || !(r->get<double>() > 0.0)) return std::nullopt;
+    const auto w = d->find(std::string(workload));
+    if (w == d->end() || !w->is_object()) return std::nullopt;
+    const auto r = w->find(std::string(stage));
+    if (r == w->end() || !r->is_number() || !(r->get<double>() > 0.0)) return std::nullopt;
     return r->get<double>();
 }
 
-void RateStore::set(const ocl::DeviceInfo& device, std::string_view stage, double rate) {
-    data_[device_key(device)][std::string(stage)] = rate;
+void RateStore::set(const ocl::DeviceInfo& device, std::string_view workload, std::string_view stage, double rate) {
+    nlohmann::json& d = data_[device_key(device)];
+    if (!d.is_object()) d = nlohmann::json::object();
+    d[std::string(workload)][std::string(stage)] = rate;
 }
 
 void RateStore::save() const {
@@ -83,15 +88,15 @@ nlohmann::json to_json(const StageSplit& s) {
                            {"copies_ms", d.copies_ms}, {"copied_bytes", d.copied_bytes}, {"rate", d.rate},
                            {"failure", d.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.failure)},
                            {"limit", d.limit.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.limit)}});
-    return {{"stage", s.stage}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
+    return {{"stage", s.stage}, {"workload", s.workload}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
             {"fastest_single_ms_estimated", s.fastest_single_ms()}, {"speedup_estimated", s.speedup()},
             {"devices", devices}};
 }
 
 std::string to_text(const StageSplit& s) {
-    std::string text = fmt::format("{} split ({}): {:.1f} ms; fastest device alone ~{:.1f} ms (estimated from its "
-                                   "rate): speed-up {:.2f}x\n",
-                                   s.stage, s.basis, s.wall_ms, s.fastest_single_ms(), s.speedup());
+    std::string text = fmt::format("{} split of {} ({}): {:.1f} ms; fastest device alone ~{:.1f} ms (estimated from "
+                                   "its rate): speed-up {:.2f}x\n",
+                                   s.stage, s.workload, s.basis, s.wall_ms, s.fastest_single_ms(), s.speedup());
     for (const DeviceShare& d : s.devices) {
         text += fmt::format("  device {} [{}]: planned {:.1f}%, done {:.1f}%, busy {:.1f} ms, idle at end {:.1f} ms",
                             d.device, d.name, 100.0 * d.planned, 100.0 * d.done, d.busy_ms, d.idle_ms);
@@ -363,7 +368,8 @@ double static_estimate(const ocl::DeviceInfo& d) {
 std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStore* rates, StageSplit& report) {
     std::vector<double> w;
     for (const Lane& l : lanes) {
-        const std::optional<double> r = rates ? rates->rate(l.device->info(), report.stage) : std::nullopt;
+        const std::optional<double> r =
+            rates ? rates->rate(l.device->info(), report.workload, report.stage) : std::nullopt;
         if (!r) break;
         w.push_back(*r);
     }
@@ -375,9 +381,10 @@ std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStor
     return w;
 }
 
-StageSplit start_report(const std::vector<Lane>& lanes, std::string stage) {
+StageSplit start_report(const std::vector<Lane>& lanes, std::string stage, const Scene& scene, const SplitSpec& spec) {
     StageSplit r;
     r.stage = std::move(stage);
+    r.workload = fmt::format("{} at {}", scene.name, spec.build.front().leaf_size);
     for (const Lane& l : lanes) {
         DeviceShare d;
         d.device = l.device->info().index;
@@ -392,7 +399,7 @@ void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lan
         DeviceShare& d = r.devices[i];
         if (d.done <= 0.0 || d.busy_ms <= 0.0) continue;
         d.rate = d.done * r.work / d.busy_ms;
-        if (rates) rates->set(lanes[i].device->info(), r.stage, d.rate);
+        if (rates) rates->set(lanes[i].device->info(), r.workload, r.stage, d.rate);
     }
 }
 
@@ -554,7 +561,7 @@ render::SceneBricks upload_scene(const std::vector<HostBuild>& merged, const con
 // The split construction: every geometry's parts, merged on the host.
 std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec,
                                        const RateStore* basis, StageSplit& report) {
-    report = start_report(lanes, "construct");
+    report = start_report(lanes, "construct", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
     auto parts = run_shared<std::vector<HostBuild>>(lanes, weights, report, [&](Lane& lane, Interval iv) {
         if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
@@ -594,7 +601,7 @@ render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vecto
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
 render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, const std::vector<HostBuild>& merged,
                                 const SplitSpec& spec, const RateStore* basis, StageSplit& report) {
-    report = start_report(lanes, "trace");
+    report = start_report(lanes, "trace", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
     const render::TraceSettings& first = spec.trace.front();
     int unit = 1;
