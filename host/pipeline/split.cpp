@@ -169,6 +169,17 @@ std::pair<std::uint64_t, std::uint64_t> covered(const std::vector<std::uint64_t>
     return {at(iv.f0), at(iv.f1)};
 }
 
+// A part of one geometry's build, read back to the host.
+struct HostBuild {
+    construct::GeometryBuild meta;  // without its device buffers
+    int split_level = -1;           // -1: the build ended before a split level
+    std::uint64_t total_weight = 0;  // of the split level's bricks
+    std::vector<SdfBrick> leaves;
+    std::vector<cl_uint> lists;
+    std::vector<std::uint8_t> pool;
+    std::vector<SdfBounds> aabbs;
+};
+
 // One device in the run: its builders (made on first use, so that a failing program build is its
 // failure) and, for tracing, its copy of the merged bricks.
 struct Lane {
@@ -183,14 +194,23 @@ struct Lane {
     double kernels_ms = 0.0, copies_ms = 0.0;
     std::uint64_t copied_bytes = 0;
 
-    // Runs copy() as one of the lane's host-device copies of `bytes`.
+    // The parts it read back in the last pass, one per geometry: their memory is read into again,
+    // so that a pass does not fault in fresh pages for every brick it reads back.
+    std::vector<HostBuild> spare;
+
+    // Runs fn() as one of the lane's host-device copies of `bytes`.
     template <class Fn>
     auto copy(std::uint64_t bytes, Fn&& fn) {
-        const auto t0 = Clock::now();
-        auto out = fn();
-        copies_ms += ms_since(t0);
-        copied_bytes += bytes;
-        return out;
+        struct Count {
+            Lane& lane;
+            std::uint64_t bytes;
+            Clock::time_point t0 = Clock::now();
+            ~Count() {
+                lane.copies_ms += ms_since(t0);
+                lane.copied_bytes += bytes;
+            }
+        } count{*this, bytes};
+        return fn();
     }
 
     bool alive() const { return failure.empty(); }
@@ -201,6 +221,7 @@ template <class Result>
 struct Part {
     Interval span;
     Result result;
+    std::size_t lane = 0;  // which lane made it
 };
 
 [[noreturn]] void throw_all_failed(const std::vector<Lane>& lanes) {
@@ -320,7 +341,7 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
                     }
                     const auto t0 = Clock::now();
                     try {
-                        got[i].push_back({iv, fn(lanes[i], iv)});
+                        got[i].push_back({iv, fn(lanes[i], iv), i});
                         report.devices[i].done += iv.width();
                     } catch (const std::exception& e) {
                         could_not_run(lanes[i], report.devices[i], iv, e);
@@ -406,23 +427,17 @@ void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lan
 // ---- construction ----
 
 // One geometry's part (or merged whole) on the host.
-struct HostBuild {
-    construct::GeometryBuild meta;  // without its device buffers
-    int split_level = -1;           // -1: the build ended before a split level
-    std::uint64_t total_weight = 0;  // of the split level's bricks
-    std::vector<SdfBrick> leaves;
-    std::vector<cl_uint> lists;
-    std::vector<std::uint8_t> pool;
-    std::vector<SdfBounds> aabbs;
-};
 
-HostBuild to_host(construct::GeometryBuild b, Lane& lane) {
-    HostBuild h;
-    const auto read = [&](const auto& buffer) { return lane.copy(buffer.bytes(), [&] { return buffer.read(); }); };
-    h.leaves = read(*b.leaves);
-    h.lists = read(*b.leaf_edit_indices);
-    h.pool = read(*b.pool);
-    h.aabbs = read(*b.aabbs);
+// Reads b's arrays back into h's (memory from an earlier pass, or none).
+HostBuild to_host(construct::GeometryBuild b, Lane& lane, HostBuild h) {
+    const auto read = [&](const auto& buffer, auto& out) {
+        out.resize(buffer.size());
+        lane.copy(buffer.bytes(), [&] { buffer.read_into(std::span(out)); });
+    };
+    read(*b.leaves, h.leaves);
+    read(*b.leaf_edit_indices, h.lists);
+    read(*b.pool, h.pool);
+    read(*b.aabbs, h.aabbs);
     b.leaves.reset();
     b.leaf_edit_indices.reset();
     b.pool.reset();
@@ -435,7 +450,8 @@ HostBuild to_host(construct::GeometryBuild b, Lane& lane) {
 std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
     std::vector<HostBuild> out;
     measure::Scheduler scheduler(*lane.device);
-    for (const Geometry& g : scene.geometries) {
+    for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
+        const Geometry& g = scene.geometries[gi];
         int split_level = -1;
         std::uint64_t total = 0;
         const construct::Subtrees subtrees{kSplitBricks, [&](const std::vector<SdfBrick>& records) {
@@ -446,7 +462,8 @@ std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construc
             total = prefix.back();
             return range;
         }};
-        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees), lane);
+        HostBuild recycled = gi < lane.spare.size() ? std::move(lane.spare[gi]) : HostBuild{};
+        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees), lane, std::move(recycled));
         h.split_level = split_level;
         h.total_weight = total;
         out.push_back(std::move(h));
@@ -574,6 +591,7 @@ std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& sc
         merged.push_back(merge(of_g));
         report.work += static_cast<double>(parts.front().result[g].total_weight);
     }
+    for (auto& p : parts) lanes[p.lane].spare = std::move(p.result);
     finish_report(report, spec.rates, lanes);
     return merged;
 }
