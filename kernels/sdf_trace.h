@@ -3,8 +3,9 @@
  *
  * Compile-time: SAMPLES (8 or 10), APRON (1 or 2), FORMAT (0 int8, 1 int16, 2 float), METHOD (0 sphere
  * tracing over trilinear samples, 1 analytic: the cubic of the trilinear cell, roots isolated as in
- * Marmitt et al. 2004, 2 hybrid: sphere steps while far from the surface, then analytic cells), NORMALS (0 central differences, 1 tetrahedron, 2 continuous: per-sample
- * gradients interpolated trilinearly).
+ * Marmitt et al. 2004, 2 hybrid: sphere steps while far from the surface, then analytic cells),
+ * NORMALS (0 central differences, 1 tetrahedron, 2 continuous: per-sample gradients interpolated
+ * trilinearly).
  *
  * Frames. A world ray (o, d), |d| = 1, maps into an instance's geometry frame as (M (o - T), M d); the
  * parameter t is shared, and a geometry-frame length L corresponds to L * len_scale in t, where
