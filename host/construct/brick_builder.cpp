@@ -35,7 +35,7 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
         throw SettingError("eval_group", fmt::format("eval_group {} is larger than the {} work-items per work-group {} "
                                                      "allows", eval_group, device.max_work_group_size, device.name));
-    if (eval_lanes != 0 && eval_lanes != 1 && eval_lanes != 2 && eval_lanes != 4 && eval_lanes != 8 && eval_lanes != 16)
+    if (eval_lanes < 0 || eval_lanes > 16 || (eval_lanes & (eval_lanes - 1)) != 0)
         throw SettingError("eval_lanes", fmt::format("eval_lanes must be 1, 2, 4, 8 or 16 (0 = the device's), got {}",
                                                      eval_lanes));
     if (!(band_voxels > 0.0) || band_voxels > 64.0)
@@ -589,14 +589,14 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
         const std::uint64_t counted = prev_entries * (l == 0 ? 1 : plan_.per_parent);  // every candidate child of every parent
         add_work(measure::Stage::count, counted, prev.size() * (sizeof(SdfBrick) + sizeof(cl_uint)) + prev_entries * kEntryBytes);
         std::uint64_t culled = 0;
-        if (s_.cull)
+        if (s_.cull) {
             for (const SdfBrick& p : prev)  // cull: each kept child tests its parent's list
                 culled += static_cast<std::uint64_t>(p.edit_count) *
                           (l == 0 ? records.size()
                                   : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
-        if (s_.cull)
             add_work(measure::Stage::cull, culled,
                      records.size() * sizeof(SdfBrick) + culled * kEntryBytes + r.edit_entries * sizeof(cl_uint));
+        }
         evaluations += counted + culled;
         r.count_ms = scheduler_.stage_ms(measure::Stage::count, r.level, out_.first_launch);
         r.scan_ms = scheduler_.stage_ms(measure::Stage::scan, r.level, out_.first_launch);
