@@ -64,10 +64,9 @@ glm::dvec3 heat(double e) {
     return stops[seg] * (1.0 - f) + stops[seg + 1] * f;
 }
 
-}  // namespace
-
-AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world) {
-    check_pair(test, reference, voxel_world);
+// compare() with pixel i's voxel given by voxel(i).
+template <class Voxel>
+AccuracyMetrics compare_with(const RenderBuffer& test, const RenderBuffer& reference, Voxel&& voxel) {
     AccuracyMetrics m;
     std::vector<double> depth_err, normal_err;
     double sq = 0.0;
@@ -81,7 +80,7 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
         if (ht != hr) ++m.hit_mismatches;
         if (ht && hr) {
             ++m.both_hit;
-            depth_err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel_world);
+            depth_err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel(i));
             normal_err.push_back(angle_deg(test.normal(i), reference.normal(i)));
         }
         const glm::dvec3 d = normal_colour(test, i) - normal_colour(reference, i);
@@ -96,6 +95,24 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
     const double mse = m.pixels == 0 ? 0.0 : sq / (3.0 * static_cast<double>(m.pixels));
     m.psnr_db = mse > 0.0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
     return m;
+}
+
+}  // namespace
+
+AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world) {
+    check_pair(test, reference, voxel_world);
+    return compare_with(test, reference, [voxel_world](std::size_t) { return voxel_world; });
+}
+
+AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel) {
+    check_pair(test, reference, 1.0);
+    if (pixel_voxel.size() != reference.pixels())
+        throw std::invalid_argument("accuracy: " + std::to_string(pixel_voxel.size()) + " pixel voxels for " +
+                                    std::to_string(reference.pixels()) + " pixels");
+    for (const double v : pixel_voxel)
+        if (!(v > 0.0) || !std::isfinite(v))
+            throw std::invalid_argument("accuracy: a pixel's voxel must be a finite value > 0, got " + std::to_string(v));
+    return compare_with(test, reference, [pixel_voxel](std::size_t i) { return pixel_voxel[i]; });
 }
 
 nlohmann::json to_json(const AccuracyMetrics& m) {

@@ -21,6 +21,14 @@ std::optional<Method> method_from_string(std::string_view s) {
     if (s == "analytic") return Method::analytic;
     return std::nullopt;
 }
+std::span<const Method> all_methods() {
+    static constexpr Method kAll[] = {Method::sphere, Method::analytic};
+    return kAll;
+}
+std::span<const NormalMethod> all_normal_methods() {
+    static constexpr NormalMethod kAll[] = {NormalMethod::central, NormalMethod::tetra, NormalMethod::continuous};
+    return kAll;
+}
 std::optional<NormalMethod> normals_from_string(std::string_view s) {
     if (s == "central") return NormalMethod::central;
     if (s == "tetra") return NormalMethod::tetra;

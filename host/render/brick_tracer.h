@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +30,9 @@ std::string_view to_string(Method m);
 std::string_view to_string(NormalMethod n);
 std::optional<Method> method_from_string(std::string_view s);
 std::optional<NormalMethod> normals_from_string(std::string_view s);
+// Every in-brick method and every normal rule, in declaration order (what the stability atlas runs).
+std::span<const Method> all_methods();
+std::span<const NormalMethod> all_normal_methods();
 
 // Every geometry's bricks (construction), their trees and the top level (bvh), and the arrays the
 // tracer reads: one pool for all geometries and a table of SdfBrickGeometry.
