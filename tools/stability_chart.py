@@ -1,10 +1,13 @@
 #!/usr/bin/python3
 """The stability atlas's table and chart from `sdfbrick stability --json` reports.
 
-usage: tools/stability_chart.py REPORT.json [--png chart.png] [--title TEXT]
-Prints a markdown table, cases down and in-brick methods across, each cell the failure rate of that
+usage: tools/stability_chart.py REPORT.json [REPORT.json ...] [--png chart.png] [--title TEXT]
+                                [--pictures DIR --strips OUTDIR]
+Several reports (e.g. one run per method) are joined cell by cell. Prints a markdown table, cases down and in-brick methods across, each cell the failure rate of that
 method on that case over the report's cells (normal rules x formats x builds) with the measures that
-failed and how often; with --png, draws the same rates as grouped bars (matplotlib).
+failed and how often; with --png, draws the same rates as grouped bars (matplotlib). With --pictures
+(the folder `sdfbrick stability --pictures` wrote) and --strips, writes OUTDIR/CASE.png per case: the
+reference and each method's render on top, each method's difference image below.
 """
 import argparse
 import collections
@@ -22,10 +25,10 @@ def load(path):
     return report
 
 
-def rates(report):
+def rates(cells):
     """{case: {method: (failed, total, Counter of failures)}}, cases and methods in report order."""
     table = collections.OrderedDict()
-    for cell in report["cells"]:
+    for cell in cells:
         row = table.setdefault(cell["case"], collections.OrderedDict())
         failed, total, why = row.get(cell["method"], (0, 0, collections.Counter()))
         why.update(cell["failures"])
@@ -79,16 +82,47 @@ def chart(table, path, title):
     fig.savefig(path, dpi=110)
 
 
+def strips(table, pictures, outdir):
+    import os
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.image as mpimg
+    import matplotlib.pyplot as plt
+    os.makedirs(outdir, exist_ok=True)
+    methods = methods_of(table)
+    for case in table:
+        fig, axes = plt.subplots(2, len(methods) + 1, figsize=(3.2 * (len(methods) + 1), 4.0), squeeze=False)
+        panels = [(0, 0, f"{case}-reference", "reference")] + \
+                 [(0, i + 1, f"{case}-{m}", m) for i, m in enumerate(methods)] + \
+                 [(1, i + 1, f"{case}-{m}-difference", f"{m}: difference") for i, m in enumerate(methods)]
+        for ax in axes.flat:
+            ax.axis("off")
+        for row, col, name, title in panels:
+            path = os.path.join(pictures, name + ".png")
+            if os.path.exists(path):
+                axes[row][col].imshow(mpimg.imread(path))
+                axes[row][col].set_title(title, fontsize=9)
+        fig.suptitle(case, fontsize=10)
+        fig.tight_layout()
+        fig.savefig(os.path.join(outdir, case + ".png"), dpi=80)
+        plt.close(fig)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("report")
+    parser.add_argument("reports", nargs="+")
     parser.add_argument("--png")
     parser.add_argument("--title", default="stability atlas: failing cells per case and method")
+    parser.add_argument("--pictures")
+    parser.add_argument("--strips")
     args = parser.parse_args()
-    table = rates(load(args.report))
+    cells = [cell for path in args.reports for cell in load(path)["cells"]]
+    table = rates(cells)
     print(markdown(table))
     if args.png:
         chart(table, args.png, args.title)
+    if args.pictures and args.strips:
+        strips(table, args.pictures, args.strips)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,15 @@ void check_pair(const RenderBuffer& test, const RenderBuffer& reference, double 
         throw std::invalid_argument("accuracy: voxel_world must be a finite value > 0, got " + std::to_string(voxel_world));
 }
 
+void check_voxels(std::span<const double> pixel_voxel, std::size_t pixels) {
+    if (pixel_voxel.size() != pixels)
+        throw std::invalid_argument("accuracy: " + std::to_string(pixel_voxel.size()) + " pixel voxels for " +
+                                    std::to_string(pixels) + " pixels");
+    for (const double v : pixel_voxel)
+        if (!(v > 0.0) || !std::isfinite(v))
+            throw std::invalid_argument("accuracy: a pixel's voxel must be a finite value > 0, got " + std::to_string(v));
+}
+
 bool unconverged(const RenderBuffer& reference, std::size_t i) { return (reference.aux[i].s[1] & SDF_REF_UNCONVERGED) != 0u; }
 
 double depth_of(const RenderBuffer& b, std::size_t i) { return static_cast<double>(b.hit[i].s[3]); }
@@ -106,12 +115,7 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
 
 AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel) {
     check_pair(test, reference, 1.0);
-    if (pixel_voxel.size() != reference.pixels())
-        throw std::invalid_argument("accuracy: " + std::to_string(pixel_voxel.size()) + " pixel voxels for " +
-                                    std::to_string(reference.pixels()) + " pixels");
-    for (const double v : pixel_voxel)
-        if (!(v > 0.0) || !std::isfinite(v))
-            throw std::invalid_argument("accuracy: a pixel's voxel must be a finite value > 0, got " + std::to_string(v));
+    check_voxels(pixel_voxel, reference.pixels());
     return compare_with(test, reference, [pixel_voxel](std::size_t i) { return pixel_voxel[i]; });
 }
 
@@ -134,6 +138,13 @@ nlohmann::json to_json(const AccuracyMetrics& m) {
 Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world,
                        double saturation_voxels) {
     check_pair(test, reference, voxel_world);
+    return difference_image(test, reference, std::vector<double>(reference.pixels(), voxel_world), saturation_voxels);
+}
+
+Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel,
+                       double saturation_voxels) {
+    check_pair(test, reference, 1.0);
+    check_voxels(pixel_voxel, reference.pixels());
     if (!(saturation_voxels > 0.0) || !std::isfinite(saturation_voxels))
         throw std::invalid_argument("accuracy: saturation_voxels must be a finite value > 0");
     Image im(test.width, test.height, 3);
@@ -147,7 +158,7 @@ Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, 
         } else if (!ht && hr) {
             c = glm::dvec3(0.0, 1.0, 1.0);
         } else if (ht && hr) {
-            c = heat(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel_world / saturation_voxels);
+            c = heat(std::abs(depth_of(test, i) - depth_of(reference, i)) / pixel_voxel[i] / saturation_voxels);
         }
         set_pixel(im, i, c);
     }

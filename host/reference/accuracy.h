@@ -73,5 +73,8 @@ inline constexpr double kDifferenceSaturationVoxels = 1.0;
 // Throws as compare() does, and std::invalid_argument for saturation_voxels <= 0.
 Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world,
                        double saturation_voxels = kDifferenceSaturationVoxels);
+// The same with pixel i's depth error in units of pixel_voxel[i] (as compare() with per-pixel voxels).
+Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel,
+                       double saturation_voxels = kDifferenceSaturationVoxels);
 
 }  // namespace sdfbrick::reference

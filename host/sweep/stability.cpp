@@ -169,11 +169,12 @@ private:
                 continue;
             }
             const render::SceneBricks& bricks = lane.build->bricks;
-            c.accuracy = reference::compare(buffer, reference_, pixel_voxels(scene_, bricks, buffer));
+            const std::vector<double> voxels = pixel_voxels(scene_, bricks, buffer);
+            c.accuracy = reference::compare(buffer, reference_, voxels);
             c.bricks = bricks.bricks;
             c.build_ms = lane.build->build_ms.median;
             c.trace_ms = run.trace_ms.median;
-            if (pictured(c)) write_pictures(c, buffer, bricks.voxel_world);
+            if (pictured(c)) write_pictures(c, buffer, voxels);
             first = std::move(buffer);
         }
     }
@@ -188,10 +189,10 @@ private:
                c.normals == (has_default ? def : lists_.normals.front());
     }
 
-    void write_pictures(const StabilityCell& c, const RenderBuffer& buffer, double voxel_world) const {
+    void write_pictures(const StabilityCell& c, const RenderBuffer& buffer, std::span<const double> voxels) const {
         const std::string stem = name() + "-" + std::string(render::to_string(c.method));
         write_image(normal_image(buffer), picture_path(*spec_.pictures, stem));
-        write_image(reference::difference_image(buffer, reference_, voxel_world),
+        write_image(reference::difference_image(buffer, reference_, voxels),
                     picture_path(*spec_.pictures, stem + "-difference"));
     }
 

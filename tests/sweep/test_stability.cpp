@@ -97,7 +97,7 @@ const CaseExpectation kCases[] = {
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, SweepStabilityCase, ::testing::ValuesIn(kCases),
-                         [](const ::testing::TestParamInfo<CaseExpectation>& info) { return std::string(info.param.name); });
+                         [](const ::testing::TestParamInfo<CaseExpectation>& p) { return std::string(p.param.name); });
 
 }  // namespace
 }  // namespace sdfbrick
