@@ -351,14 +351,14 @@ Scene menger6(Rng&) {
     return finish("menger6", 0.0, g, orbit({0.0, 0.0, 0.0}, 4.5, 30.0, 25.0));
 }
 
-// One shape at scales 1e-3, 1e-2, ..., 1e3, each rotated and at 5 times its scale from the eye, so
+// One shape (a rounded box in a blended ring, every part several voxels thick) at scales 1e-3, 1e-2,
+// ..., 1e3, each rotated and at 5 times its scale from the eye, so
 // that all seven look the same size, in a ring around the view's centre. Each scale is an object of
 // its own copy of the geometry, so that a pixel's depth error is measured in the voxels of the
 // object it shows (a brick tells its geometry, not its instance).
 Scene instance_stack(Rng& rng) {
     Geometry g;
-    g.edits.push_back(make_edit(Primitive::RoundBox, {0.45, 0.45, 0.45, 0.1}, {0.0, 0.0, 0.0}));
-    g.edits.push_back(subtracted(make_edit(Primitive::Sphere, {0.58, 0, 0, 0}, {0.0, 0.0, 0.0})));
+    g.edits.push_back(make_edit(Primitive::RoundBox, {0.35, 0.35, 0.35, 0.1}, {0.0, 0.0, 0.0}));
     Edit ring = make_edit(Primitive::Torus, {0.5, 0.08, 0, 0}, {0.0, 0.0, 0.0});
     ring.blend = 0.05;
     g.edits.push_back(ring);
