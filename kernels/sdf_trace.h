@@ -3,8 +3,9 @@
  *
  * Compile-time: SAMPLES (8 or 10), APRON (1 or 2), FORMAT (0 int8, 1 int16, 2 float), METHOD (0 sphere
  * tracing over trilinear samples, 1 analytic: the cubic of the trilinear cell, roots isolated as in
- * Marmitt et al. 2004), NORMALS (0 central differences, 1 tetrahedron, 2 continuous: per-sample
- * gradients interpolated trilinearly).
+ * Marmitt et al. 2004, 2 hybrid: sphere steps while far from the surface, then analytic cells),
+ * NORMALS (0 central differences, 1 tetrahedron, 2 continuous: per-sample gradients interpolated
+ * trilinearly).
  *
  * Frames. A world ray (o, d), |d| = 1, maps into an instance's geometry frame as (M (o - T), M d); the
  * parameter t is shared, and a geometry-frame length L corresponds to L * len_scale in t, where
@@ -28,6 +29,7 @@
 #define SPHERE_EPS 0.01f          /* sphere tracing: hit when the field is below this many voxels */
 #define SPHERE_MAX_STEPS 64       /* sphere tracing: steps per brick */
 #define ROOT_ITERATIONS 8         /* analytic: regula falsi (Illinois) iterations per root */
+#define HYBRID_NEAR 1.0f          /* hybrid: sphere steps while the field is above this many voxels */
 
 #include "sdf_format.h"
 
@@ -112,7 +114,7 @@ inline float3 tr_gradient(__global const sample_t* brick, float3 s) {
 #endif
 }
 
-#if METHOD == 1
+#if METHOD >= 1
 /* The trilinear field of cell c along s(u) = a + u * b (u in cell units of the ray) as the cubic
  * k[3] u^3 + k[2] u^2 + k[1] u + k[0]: the product of the three linear weights, summed over the corners. */
 inline float4 tr_cell_cubic(__global const sample_t* brick, int3 c, float3 a, float3 b) {
@@ -190,12 +192,47 @@ inline float tr_cubic_first_root(float4 k, float len) {
     }
     return -1.0f;
 }
+
+/* The first u >= u_start (t - t0, within [0, span]) where the trilinear field is <= 0, or -1:
+ * walks the trilinear cells in sample space from the one holding s0 + u_start * ds (a 3D DDA) and
+ * solves each cell's cubic. At most 3 * S cells (a ray crosses at most 3 (S - 1) - 2 of them); running
+ * out of cells before leaving the brick sets *capped. */
+inline float tr_cells(__global const sample_t* brick, float3 s0, float3 ds, float u, float span, uint* steps,
+                      uint* capped) {
+    const float3 inv_ds = tr_inverse(ds);
+    int3 c = clamp(convert_int3(floor(s0 + u * ds)), (int3)(0), (int3)(S - 2));
+    const int3 step = (int3)(ds.x >= 0.0f ? 1 : -1, ds.y >= 0.0f ? 1 : -1, ds.z >= 0.0f ? 1 : -1);
+    for (int i = 0; i < 3 * S; ++i) {
+        const float3 next = convert_float3(c + max(step, (int3)(0)));
+        const float3 exit_u = (next - s0) * inv_ds;
+        const float u_exit = fmin(tr_min3(exit_u), span);
+        ++*steps;
+        /* corners all above zero: no root in this cell */
+        float vmin = INFINITY;
+        for (int n = 0; n < 8; ++n) vmin = fmin(vmin, tr_sample(brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2)));
+        if (vmin <= 0.0f && u_exit >= u) {
+            const float3 a = s0 + u * ds - convert_float3(c);
+            const float4 k = tr_cell_cubic(brick, c, a, ds);
+            const float r = tr_cubic_first_root(k, u_exit - u);
+            if (r >= 0.0f) return u + r;
+        }
+        if (u_exit >= span) return -1.0f;
+        u = u_exit;
+        if (exit_u.x <= exit_u.y && exit_u.x <= exit_u.z) c.x += step.x;
+        else if (exit_u.y <= exit_u.z) c.y += step.y;
+        else c.z += step.z;
+        if (any(c < (int3)(0)) || any(c > (int3)(S - 2))) return -1.0f;
+    }
+    *capped = 1u;
+    return -1.0f;
+}
 #endif
 
 /* Searches one brick for the surface on the ray segment [t0, t1]: returns the hit t or -1.
- * o, d: the ray in the geometry frame; lo: the brick's minimum corner. */
+ * o, d: the ray in the geometry frame; lo: the brick's minimum corner. A search that stops at a loop
+ * bound (not at a hit or the segment's end) sets *capped. */
 inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float3 d, float t0, float t1,
-                      float inv_voxel, float len_scale, float voxel_to_stored, uint* steps) {
+                      float inv_voxel, float len_scale, float voxel_to_stored, uint* steps, uint* capped) {
     const float3 s0 = (o + t0 * d - lo) * inv_voxel + (float)APRON - 0.5f;
     const float3 ds = d * inv_voxel;
 #if METHOD == 0
@@ -215,36 +252,29 @@ inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float
         t += f * to_t;
         if (t > t1) return -1.0f;
     }
+    *capped = 1u;
     return -1.0f;
+#elif METHOD == 1
+    const float u = tr_cells(brick, s0, ds, 0.0f, t1 - t0, steps, capped);
+    return u >= 0.0f ? t0 + u : -1.0f;
 #else
-    /* Analytic: walk the trilinear cells in sample space (a 3D DDA) and solve each cell's cubic. */
-    const float3 inv_ds = tr_inverse(ds);
-    int3 c = clamp(convert_int3(floor(s0)), (int3)(0), (int3)(S - 2));
-    const int3 step = (int3)(ds.x >= 0.0f ? 1 : -1, ds.y >= 0.0f ? 1 : -1, ds.z >= 0.0f ? 1 : -1);
+    /* Hybrid: sphere steps while the field is above HYBRID_NEAR voxels, then the cells from the last
+     * point that was still that far (a step may have crossed a thin feature's near side). Running out
+     * of sphere steps hands over to the cells too, so only the cell walk can stop at a bound. */
+    const float to_t = len_scale / (inv_voxel * voxel_to_stored); /* stored units -> t */
+    const float near_field = HYBRID_NEAR * voxel_to_stored;
     const float span = t1 - t0;
-    float u = 0.0f; /* t - t0 */
-    for (int i = 0; i < 3 * S; ++i) {
-        const float3 next = convert_float3(c + max(step, (int3)(0)));
-        const float3 exit_u = (next - s0) * inv_ds;
-        const float u_exit = fmin(tr_min3(exit_u), span);
+    float u = 0.0f, u_far = 0.0f;
+    for (int i = 0; i < SPHERE_MAX_STEPS; ++i) {
+        const float f = tr_field(brick, s0 + u * ds);
         ++*steps;
-        /* corners all above zero: no root in this cell */
-        float vmin = INFINITY;
-        for (int n = 0; n < 8; ++n) vmin = fmin(vmin, tr_sample(brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2)));
-        if (vmin <= 0.0f && u_exit >= u) {
-            const float3 a = s0 + u * ds - convert_float3(c);
-            const float4 k = tr_cell_cubic(brick, c, a, ds);
-            const float r = tr_cubic_first_root(k, u_exit - u);
-            if (r >= 0.0f) return t0 + u + r;
-        }
-        if (u_exit >= span) break;
-        u = u_exit;
-        if (exit_u.x <= exit_u.y && exit_u.x <= exit_u.z) c.x += step.x;
-        else if (exit_u.y <= exit_u.z) c.y += step.y;
-        else c.z += step.z;
-        if (any(c < (int3)(0)) || any(c > (int3)(S - 2))) break;
+        if (f <= near_field) break;
+        u_far = u;
+        u += f * to_t;
+        if (u > span) return -1.0f;
     }
-    return -1.0f;
+    const float r = tr_cells(brick, s0, ds, u_far, span, steps, capped);
+    return r >= 0.0f ? t0 + r : -1.0f;
 #endif
 }
 
@@ -269,6 +299,7 @@ typedef struct TraceHit {
     float3 o, d;     /* the ray in that instance's geometry frame */
     uint visits;     /* BVH nodes visited (both levels) */
     uint steps;      /* in-brick steps or cells */
+    uint capped;     /* 1 when a brick's search stopped at a loop bound */
 } TraceHit;
 
 /* One node's two children against the ray segment [t_min, t_far]: entries n, exits x, boxes' minimum
@@ -353,7 +384,7 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
             const uint b = g.brick_offset + (uint)(~ch.c[w]);
             const float inv_voxel = ldexp(g.inv_voxel, -(int)sc->shifts[b]);
             const float t = tr_brick(sc->pool + (size_t)b * S3, ch.lo[w], o, d, ch.n[w], limit, inv_voxel,
-                                     len_scale, voxel_to_stored, &hit->steps);
+                                     len_scale, voxel_to_stored, &hit->steps, &hit->capped);
             if (t >= 0.0f && (hit->t < 0.0f || t < hit->t)) {
                 hit->t = t;
                 hit->brick = b;
@@ -377,6 +408,7 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
     hit.instance = 0u;
     hit.visits = 0u;
     hit.steps = 0u;
+    hit.capped = 0u;
     hit.lo = hit.o = hit.d = (float3)(0.0f);
     hit.inv_voxel = 0.0f;
     const float3 inv_d = tr_inverse(d);

@@ -181,5 +181,6 @@ typedef struct SdfShading {
 #define SDF_NO_NODE 0xFFFFFFFFu
 #define SDF_NO_BRICK 0xFFFFFFFFu
 #define SDF_REF_UNCONVERGED 1u /* reference aux.y flag: the iteration limit was reached */
+#define SDF_TRACE_CAPPED 0x80000000u /* brick tracer aux.y flag: a loop bound ended a brick's search */
 
 #endif /* SDFBRICK_SDF_TYPES_H */

@@ -1,7 +1,8 @@
 /* trace.cl: stage "trace". One work-item per pixel: the camera ray through the two-level BVH of bricks
  * (sdf_trace.h), the nearest hit's depth and world normal, and counters for the heat map.
  * Output (sdf_types.h): hit = (normal, depth) or (0, 0, 0, SDF_MISS); aux = (global brick index or
- * SDF_NO_BRICK, BVH nodes visited | in-brick steps << 16, each saturated at 65535). */
+ * SDF_NO_BRICK, BVH nodes visited (saturated at 65535) | in-brick steps (saturated at 32767) << 16 |
+ * SDF_TRACE_CAPPED when a brick's search stopped at a loop bound). */
 #include "sdf_camera.h"
 #include "sdf_trace.h"
 
@@ -23,7 +24,7 @@ __kernel void trace_primary(__global const SdfCamera* camera, __global const Sdf
     const float3 d = sdf_camera_dir(&cam, x, y);
     const TraceHit hit = tr_trace(&sc, sdf_camera_eye(&cam), d, 0.0f, INFINITY, 0);
     const size_t i = (size_t)y * cam.width + x;
-    const uint counters = min(hit.visits, 65535u) | (min(hit.steps, 65535u) << 16);
+    const uint counters = min(hit.visits, 65535u) | (min(hit.steps, 32767u) << 16) | (hit.capped ? SDF_TRACE_CAPPED : 0u);
     if (hit.t >= 0.0f) {
         const float3 n = tr_normal(&sc, &hit, d);
         out_hit[i] = (float4)(n, hit.t);

@@ -417,7 +417,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     if (std::find(std::begin(kModes), std::end(kModes), o.mode) == std::end(kModes))
         throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", o.mode));
     const auto method = render::method_from_string(o.method);
-    if (!method) throw InputError(fmt::format("--method must be sphere or analytic, got \"{}\"", o.method));
+    if (!method) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), o.method));
     const auto normals = render::normals_from_string(o.normals);
     if (!normals) throw InputError(fmt::format("--normals must be central, tetra or continuous, got \"{}\"", o.normals));
     if (o.reference && o.mode != "normals" && o.mode != "depth")
@@ -477,7 +477,8 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--width", o->trace.width, "image width (1..3840)")->capture_default_str();
     cmd->add_option("--height", o->trace.height, "image height (1..2160)")->capture_default_str();
     cmd->add_option("--mode", o->mode, "normals, depth, shaded, steps (heat map) or bricks (brick ids)")->capture_default_str();
-    cmd->add_option("--method", o->method, "in-brick search: sphere (sphere tracing) or analytic (trilinear cell roots)")->capture_default_str();
+    cmd->add_option("--method", o->method, "in-brick search: sphere (sphere tracing), analytic (trilinear cell roots) or hybrid "
+                                          "(sphere steps far from the surface, cell roots near it)")->capture_default_str();
     cmd->add_option("--normals", o->normals, "central, tetra or continuous")->capture_default_str();
     cmd->add_option("--out", o->out, "picture file (default SCENE-MODE.png; .exr keeps raw depth in depth mode)");
     cmd->add_flag("--reference", o->reference, "render with the reference tracer (analytic edits) instead of bricks");

@@ -86,7 +86,7 @@ void add_scene_commands(CLI::App& app, const GlobalOptions&) {
 
     auto gen = std::make_shared<GenerateOptions>();
     auto* cmd_gen = scene->add_subcommand(
-        "generate", "Write a generated scene (spheres, drops, cubes, rain, fractal, board, thin, stability/NAME: docs/stability.md); same name and seed, same file");
+        "generate", "Write a generated scene (one of the names below); same name and seed, same file");
     cmd_gen->add_option("name", gen->name, "scene name")->required()->check(CLI::IsMember(std::vector<std::string>(generated_scene_names().begin(), generated_scene_names().end())));
     cmd_gen->add_option("--seed", gen->seed, "random seed")->capture_default_str();
     cmd_gen->add_option("-o,--out", gen->out, "output file (default: standard output)");

@@ -3,6 +3,7 @@
 // selected device; a JSON report, a text table, and with --pictures each case's pictures.
 #include <unistd.h>
 
+#include <array>
 #include <cstdio>
 #include <memory>
 
@@ -27,10 +28,10 @@ struct StabilityOptions {
 };
 
 // Each name through from_string; an unknown one is refused naming the flag and the choices.
-template <class T, class From, class All>
-std::vector<T> parse_names(const std::vector<std::string>& names, const char* flag, From from, All all) {
+template <class T, class From, std::size_t N>
+std::vector<T> parse_names(const std::vector<std::string>& names, const char* flag, From from, const std::array<T, N>& all) {
     std::vector<std::string> known;
-    for (const T v : all()) known.emplace_back(to_string(v));
+    for (const T v : all) known.emplace_back(to_string(v));
     std::vector<T> out;
     for (const std::string& n : names) {
         const auto v = from(n);
@@ -43,9 +44,8 @@ std::vector<T> parse_names(const std::vector<std::string>& names, const char* fl
 sweep::StabilitySpec make_spec(const StabilityOptions& o) {
     sweep::StabilitySpec s = o.spec;
     for (const std::string& c : o.cases) s.cases.push_back(sweep::parse_case(c, o.brick_size));
-    s.methods = parse_names<render::Method>(o.methods, "--methods", render::method_from_string, render::all_methods);
-    s.normals = parse_names<render::NormalMethod>(o.normals, "--normals", render::normals_from_string,
-                                                  render::all_normal_methods);
+    s.methods = parse_names(o.methods, "--methods", render::method_from_string, render::kMethods);
+    s.normals = parse_names(o.normals, "--normals", render::normals_from_string, render::kNormalMethods);
     for (const std::string& f : o.formats) {
         const auto v = construct::format_from_string(f);
         if (!v) throw InputError(fmt::format("--formats takes int8, int16, float, got \"{}\"", f));

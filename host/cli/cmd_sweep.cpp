@@ -13,6 +13,7 @@
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
+#include "render/brick_tracer.h"
 #include "scene/scene_json.h"
 #include "sweep/grid.h"
 #include "sweep/runner.h"
@@ -130,7 +131,7 @@ void add_sweep_commands(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--cull", o->culls, "on, off or on,off")->delimiter(',');
     cmd->add_option("--formats", o->formats, "int8, int16, float")->delimiter(',');
     cmd->add_option("--samples", o->samples, "8 and/or 10 (apron 1 or 2)")->delimiter(',');
-    cmd->add_option("--methods", o->methods, "sphere, analytic")->delimiter(',');
+    cmd->add_option("--methods", o->methods, render::method_names(", "))->delimiter(',');
     cmd->add_option("--normals", o->normals, "central, tetra, continuous")->delimiter(',');
     cmd->add_option("--width", o->width, "image width for trace and accuracy (default 640)");
     cmd->add_option("--height", o->height, "image height (default 360)");

@@ -254,12 +254,17 @@ RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::Dev
     f.group_x = spec.trace.group_x;
     f.group_y = spec.trace.group_y;
     f.shade = spec.trace.shade;
-    if (run.trace) f.work = render::work_counts(run.trace->buffer);
+    if (run.trace) {
+        f.work = render::work_counts(run.trace->buffer);
+        f.warnings = run.trace->warnings;
+    }
     f.digest = run.trace_digest;
     return f;
 }
 
 nlohmann::json to_json(const RenderFigures& f) {
+    nlohmann::json warnings = nlohmann::json::array();
+    for (const render::TraceWarning& w : f.warnings) warnings.push_back(render::to_json(w));
     return {{"trace_group", {f.group_x, f.group_y}},
             {"stages", measure::to_json(f.stages)},
             {"build_ms", measure::to_json(f.build_ms)},
@@ -272,6 +277,8 @@ nlohmann::json to_json(const RenderFigures& f) {
             {"memory", f.memory()},
             {"rays_per_second", f.rays_per_second()},
             {"work_per_pixel", {{"node_visits", f.work.node_visits}, {"brick_steps", f.work.brick_steps}}},
+            {"capped_rays", f.work.capped_rays},
+            {"warnings", warnings},
             {"digest", f.digest},
             {"voxel_world", f.voxel_world},
             {"kernels", measure::to_json(f.kernels)}};
@@ -284,6 +291,7 @@ std::string to_text(const RenderFigures& f, bool kernel_table) {
                                 "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
                                 f.build_ms.median, f.construction.bricks, f.bvh_ms.median, f.bvh.nodes,
                                 f.trace_ms.median, f.rays_per_second(), f.work.node_visits, f.work.brick_steps, shade);
+    for (const render::TraceWarning& w : f.warnings) s += "  warning: " + w.message + "\n";
     if (f.captures > 1) s += measure::stage_table_text(f.stages, f.identical);
     if (kernel_table) s += measure::kernel_table_text(f.kernels);
     return s;

@@ -109,6 +109,7 @@ struct RenderFigures {
     bool shade = false;
     render::WorkCounts work;  // per pixel
     std::string digest;       // of the traced image
+    std::vector<render::TraceWarning> warnings;  // the last capture's
 
     Memory memory() const;  // construction, BVH and the combined pool
     double rays_per_second() const;
@@ -116,9 +117,11 @@ struct RenderFigures {
 // run: a Work::trace run of spec.
 RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::DeviceInfo& device);
 // {"trace_group", "stages", "build_ms", "bvh_ms", "trace_ms", "captures", "bricks", "bvh", "memory",
-//  "rays_per_second", "work_per_pixel", "digest", "voxel_world", "kernels"} (docs/measurement.md)
+//  "rays_per_second", "work_per_pixel", "capped_rays", "warnings", "digest", "voxel_world", "kernels"}
+// (docs/measurement.md)
 nlohmann::json to_json(const RenderFigures& f);
-// The build/bvh/trace line, the stage table (several captures) and the kernel table (kernel_table).
+// The build/bvh/trace line, one "warning:" line per warning, the stage table (several captures) and
+// the kernel table (kernel_table).
 std::string to_text(const RenderFigures& f, bool kernel_table);
 
 // "12.5 KiB", "3.00 MiB", ...

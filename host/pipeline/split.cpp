@@ -47,16 +47,21 @@ RateStore::RateStore(std::optional<std::filesystem::path> path) : path_(std::mov
         throw InputError(fmt::format("{}: not a device rate store (a JSON object of devices)", path_->string()));
 }
 
-std::optional<double> RateStore::rate(const ocl::DeviceInfo& device, std::string_view stage) const {
+std::optional<double> RateStore::rate(const ocl::DeviceInfo& device, std::string_view workload,
+                                      std::string_view stage) const {
     const auto d = data_.find(device_key(device));
     if (d == data_.end() || !d->is_object()) return std::nullopt;
-    const auto r = d->find(std::string(stage));
-    if (r == d->end() || !r->is_number() || !(r->get<double>() > 0.0)) return std::nullopt;
+    const auto w = d->find(std::string(workload));
+    if (w == d->end() || !w->is_object()) return std::nullopt;
+    const auto r = w->find(std::string(stage));
+    if (r == w->end() || !r->is_number() || !(r->get<double>() > 0.0)) return std::nullopt;
     return r->get<double>();
 }
 
-void RateStore::set(const ocl::DeviceInfo& device, std::string_view stage, double rate) {
-    data_[device_key(device)][std::string(stage)] = rate;
+void RateStore::set(const ocl::DeviceInfo& device, std::string_view workload, std::string_view stage, double rate) {
+    nlohmann::json& d = data_[device_key(device)];
+    if (!d.is_object()) d = nlohmann::json::object();
+    d[std::string(workload)][std::string(stage)] = rate;
 }
 
 void RateStore::save() const {
@@ -79,21 +84,25 @@ nlohmann::json to_json(const StageSplit& s) {
     nlohmann::json devices = nlohmann::json::array();
     for (const DeviceShare& d : s.devices)
         devices.push_back({{"device", d.device}, {"name", d.name}, {"planned", d.planned}, {"done", d.done},
-                           {"busy_ms", d.busy_ms}, {"idle_ms", d.idle_ms}, {"rate", d.rate},
+                           {"busy_ms", d.busy_ms}, {"idle_ms", d.idle_ms}, {"kernels_ms", d.kernels_ms},
+                           {"copies_ms", d.copies_ms}, {"copied_bytes", d.copied_bytes}, {"rate", d.rate},
                            {"failure", d.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.failure)},
                            {"limit", d.limit.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.limit)}});
-    return {{"stage", s.stage}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
+    return {{"stage", s.stage}, {"workload", s.workload}, {"basis", s.basis}, {"work", s.work}, {"wall_ms", s.wall_ms},
             {"fastest_single_ms_estimated", s.fastest_single_ms()}, {"speedup_estimated", s.speedup()},
             {"devices", devices}};
 }
 
 std::string to_text(const StageSplit& s) {
-    std::string text = fmt::format("{} split ({}): {:.1f} ms; fastest device alone ~{:.1f} ms (estimated from its "
-                                   "rate): speed-up {:.2f}x\n",
-                                   s.stage, s.basis, s.wall_ms, s.fastest_single_ms(), s.speedup());
+    std::string text = fmt::format("{} split of {} ({}): {:.1f} ms; fastest device alone ~{:.1f} ms (estimated from "
+                                   "its rate): speed-up {:.2f}x\n",
+                                   s.stage, s.workload, s.basis, s.wall_ms, s.fastest_single_ms(), s.speedup());
     for (const DeviceShare& d : s.devices) {
         text += fmt::format("  device {} [{}]: planned {:.1f}%, done {:.1f}%, busy {:.1f} ms, idle at end {:.1f} ms",
                             d.device, d.name, 100.0 * d.planned, 100.0 * d.done, d.busy_ms, d.idle_ms);
+        if (d.busy_ms > 0.0)
+            text += fmt::format(" (kernels {:.1f} ms, copies {:.1f} ms for {:.0f} MB)", d.kernels_ms, d.copies_ms,
+                                static_cast<double>(d.copied_bytes) / 1e6);
         if (!d.limit.empty()) text += fmt::format("; smaller parts: {}", d.limit);
         text += d.failure.empty() ? "\n" : fmt::format("; FAILED: {}\n", d.failure);
     }
@@ -160,6 +169,17 @@ std::pair<std::uint64_t, std::uint64_t> covered(const std::vector<std::uint64_t>
     return {at(iv.f0), at(iv.f1)};
 }
 
+// A part of one geometry's build, read back to the host.
+struct HostBuild {
+    construct::GeometryBuild meta;  // without its device buffers
+    int split_level = -1;           // -1: the build ended before a split level
+    std::uint64_t total_weight = 0;  // of the split level's bricks
+    std::vector<SdfBrick> leaves;
+    std::vector<cl_uint> lists;
+    std::vector<std::uint8_t> pool;
+    std::vector<SdfBounds> aabbs;
+};
+
 // One device in the run: its builders (made on first use, so that a failing program build is its
 // failure) and, for tracing, its copy of the merged bricks.
 struct Lane {
@@ -170,6 +190,28 @@ struct Lane {
     std::string failure;
     std::exception_ptr error;
     double cap = 1.0;  // the widest part it may take: less after it could not hold one
+    // This stage's kernel device time and host-device copies so far (DeviceShare's fields).
+    double kernels_ms = 0.0, copies_ms = 0.0;
+    std::uint64_t copied_bytes = 0;
+
+    // The parts it read back in the last pass, one per geometry: their memory is read into again,
+    // so that a pass does not fault in fresh pages for every brick it reads back.
+    std::vector<HostBuild> spare;
+
+    // Runs fn() as one of the lane's host-device copies of `bytes`.
+    template <class Fn>
+    auto copy(std::uint64_t bytes, Fn&& fn) {
+        struct Count {
+            Lane& lane;
+            std::uint64_t bytes;
+            Clock::time_point t0 = Clock::now();
+            ~Count() {
+                lane.copies_ms += ms_since(t0);
+                lane.copied_bytes += bytes;
+            }
+        } count{*this, bytes};
+        return fn();
+    }
 
     bool alive() const { return failure.empty(); }
 };
@@ -179,6 +221,7 @@ template <class Result>
 struct Part {
     Interval span;
     Result result;
+    std::size_t lane = 0;  // which lane made it
 };
 
 [[noreturn]] void throw_all_failed(const std::vector<Lane>& lanes) {
@@ -266,7 +309,11 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
     std::vector<Part<Result>> done;
     std::vector<Interval> pending{{0.0, 1.0}};
     std::vector<double> last_end(lanes.size(), 0.0);
-    for (Lane& l : lanes) l.cap = 1.0;  // what a device could not hold in another stage may fit in this one
+    for (Lane& l : lanes) {
+        l.cap = 1.0;  // what a device could not hold in another stage may fit in this one
+        l.kernels_ms = l.copies_ms = 0.0;
+        l.copied_bytes = 0;
+    }
     bool first_round = true;
     while (!pending.empty()) {
         if (std::none_of(lanes.begin(), lanes.end(), [](const Lane& l) { return l.alive(); })) throw_all_failed(lanes);
@@ -294,7 +341,7 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
                     }
                     const auto t0 = Clock::now();
                     try {
-                        got[i].push_back({iv, fn(lanes[i], iv)});
+                        got[i].push_back({iv, fn(lanes[i], iv), i});
                         report.devices[i].done += iv.width();
                     } catch (const std::exception& e) {
                         could_not_run(lanes[i], report.devices[i], iv, e);
@@ -316,6 +363,9 @@ std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector
         DeviceShare& d = report.devices[i];
         d.failure = lanes[i].failure;
         d.idle_ms = report.wall_ms - last_end[i];  // the whole stage for a device without a part
+        d.kernels_ms = lanes[i].kernels_ms;
+        d.copies_ms = lanes[i].copies_ms;
+        d.copied_bytes = lanes[i].copied_bytes;
     }
     std::sort(done.begin(), done.end(), [](const Part<Result>& a, const Part<Result>& b) { return a.span.f0 < b.span.f0; });
     return done;
@@ -339,7 +389,8 @@ double static_estimate(const ocl::DeviceInfo& d) {
 std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStore* rates, StageSplit& report) {
     std::vector<double> w;
     for (const Lane& l : lanes) {
-        const std::optional<double> r = rates ? rates->rate(l.device->info(), report.stage) : std::nullopt;
+        const std::optional<double> r =
+            rates ? rates->rate(l.device->info(), report.workload, report.stage) : std::nullopt;
         if (!r) break;
         w.push_back(*r);
     }
@@ -351,9 +402,10 @@ std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStor
     return w;
 }
 
-StageSplit start_report(const std::vector<Lane>& lanes, std::string stage) {
+StageSplit start_report(const std::vector<Lane>& lanes, std::string stage, const Scene& scene, const SplitSpec& spec) {
     StageSplit r;
     r.stage = std::move(stage);
+    r.workload = fmt::format("{} at {}", scene.name, spec.build.front().leaf_size);
     for (const Lane& l : lanes) {
         DeviceShare d;
         d.device = l.device->info().index;
@@ -368,29 +420,24 @@ void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lan
         DeviceShare& d = r.devices[i];
         if (d.done <= 0.0 || d.busy_ms <= 0.0) continue;
         d.rate = d.done * r.work / d.busy_ms;
-        if (rates) rates->set(lanes[i].device->info(), r.stage, d.rate);
+        if (rates) rates->set(lanes[i].device->info(), r.workload, r.stage, d.rate);
     }
 }
 
 // ---- construction ----
 
 // One geometry's part (or merged whole) on the host.
-struct HostBuild {
-    construct::GeometryBuild meta;  // without its device buffers
-    int split_level = -1;           // -1: the build ended before a split level
-    std::uint64_t total_weight = 0;  // of the split level's bricks
-    std::vector<SdfBrick> leaves;
-    std::vector<cl_uint> lists;
-    std::vector<std::uint8_t> pool;
-    std::vector<SdfBounds> aabbs;
-};
 
-HostBuild to_host(construct::GeometryBuild b) {
-    HostBuild h;
-    h.leaves = b.leaves->read();
-    h.lists = b.leaf_edit_indices->read();
-    h.pool = b.pool->read();
-    h.aabbs = b.aabbs->read();
+// Reads b's arrays back into h's (memory from an earlier pass, or none).
+HostBuild to_host(construct::GeometryBuild b, Lane& lane, HostBuild h) {
+    const auto read = [&](const auto& buffer, auto& out) {
+        out.resize(buffer.size());
+        lane.copy(buffer.bytes(), [&] { buffer.read_into(std::span(out)); });
+    };
+    read(*b.leaves, h.leaves);
+    read(*b.leaf_edit_indices, h.lists);
+    read(*b.pool, h.pool);
+    read(*b.aabbs, h.aabbs);
     b.leaves.reset();
     b.leaf_edit_indices.reset();
     b.pool.reset();
@@ -403,7 +450,8 @@ HostBuild to_host(construct::GeometryBuild b) {
 std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
     std::vector<HostBuild> out;
     measure::Scheduler scheduler(*lane.device);
-    for (const Geometry& g : scene.geometries) {
+    for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
+        const Geometry& g = scene.geometries[gi];
         int split_level = -1;
         std::uint64_t total = 0;
         const construct::Subtrees subtrees{kSplitBricks, [&](const std::vector<SdfBrick>& records) {
@@ -414,11 +462,13 @@ std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construc
             total = prefix.back();
             return range;
         }};
-        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees));
+        HostBuild recycled = gi < lane.spare.size() ? std::move(lane.spare[gi]) : HostBuild{};
+        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees), lane, std::move(recycled));
         h.split_level = split_level;
         h.total_weight = total;
         out.push_back(std::move(h));
     }
+    lane.kernels_ms += scheduler.total_ms();
     return out;
 }
 
@@ -528,7 +578,7 @@ render::SceneBricks upload_scene(const std::vector<HostBuild>& merged, const con
 // The split construction: every geometry's parts, merged on the host.
 std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec,
                                        const RateStore* basis, StageSplit& report) {
-    report = start_report(lanes, "construct");
+    report = start_report(lanes, "construct", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
     auto parts = run_shared<std::vector<HostBuild>>(lanes, weights, report, [&](Lane& lane, Interval iv) {
         if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
@@ -541,6 +591,7 @@ std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& sc
         merged.push_back(merge(of_g));
         report.work += static_cast<double>(parts.front().result[g].total_weight);
     }
+    for (auto& p : parts) lanes[p.lane].spare = std::move(p.result);
     finish_report(report, spec.rates, lanes);
     return merged;
 }
@@ -552,7 +603,11 @@ std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& sc
 render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vector<HostBuild>& merged,
                                 const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
     try {
-        render::SceneBricks b = upload_scene(merged, settings, *lane.device);
+        std::uint64_t bytes = 0;
+        for (const HostBuild& h : merged)
+            bytes += sizeof(SdfBrick) * h.leaves.size() + sizeof(cl_uint) * (h.lists.size() + h.leaves.size()) +
+                     h.pool.size() + sizeof(SdfBounds) * h.aabbs.size();
+        render::SceneBricks b = lane.copy(bytes, [&] { return upload_scene(merged, settings, *lane.device); });
         render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
         return b;
     } catch (const std::exception& e) {
@@ -564,7 +619,7 @@ render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vecto
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
 render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, const std::vector<HostBuild>& merged,
                                 const SplitSpec& spec, const RateStore* basis, StageSplit& report) {
-    report = start_report(lanes, "trace");
+    report = start_report(lanes, "trace", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
     const render::TraceSettings& first = spec.trace.front();
     int unit = 1;
@@ -582,7 +637,10 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
         if (!lane.traced) lane.traced = traced_copy(lane, scene, merged, spec.build[lane.slot], scheduler);
         const auto [a, b] = covered(prefix, iv);
         const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
-        return lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot], scheduler, rows);
+        render::TraceResult r = lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot],
+                                                            scheduler, rows);
+        lane.kernels_ms += scheduler.total_ms();
+        return r;
     });
     render::TraceResult out;
     out.buffer = RenderBuffer(first.width, first.height);

@@ -32,9 +32,12 @@ enum class DeviceMode { replicate, split };
 std::string_view to_string(DeviceMode m);
 std::optional<DeviceMode> device_mode_from_string(std::string_view s);
 
-// Each device's measured rate per stage, kept in one JSON file keyed by device (name, driver,
-// compute units), the global index first: {"<key>": {"construct": rate, "trace": rate}}. Construction's rate is edit-list
-// entries of the split level per millisecond, the trace's pixels per millisecond.
+// Each device's measured rate per workload and stage, kept in one JSON file keyed by device (name,
+// driver, compute units), the global index first:
+//   {"<device>": {"<workload>": {"construct": rate, "trace": rate}}}.
+// A workload is a scene and a brick size ("drops at 0.03125"): the cost of an edit-list entry or a
+// pixel differs between scenes, so rates of different workloads are not compared. Construction's
+// rate is edit-list entries of the split level per millisecond, the trace's pixels per millisecond.
 class RateStore {
 public:
     static constexpr const char* kEnv = "SDFBRICK_RATES";
@@ -45,8 +48,8 @@ public:
     // naming the file when it is not a store.
     explicit RateStore(std::optional<std::filesystem::path> path);
 
-    std::optional<double> rate(const ocl::DeviceInfo& device, std::string_view stage) const;
-    void set(const ocl::DeviceInfo& device, std::string_view stage, double rate);
+    std::optional<double> rate(const ocl::DeviceInfo& device, std::string_view workload, std::string_view stage) const;
+    void set(const ocl::DeviceInfo& device, std::string_view workload, std::string_view stage, double rate);
     void save() const;
     const std::optional<std::filesystem::path>& path() const { return path_; }
 
@@ -66,6 +69,12 @@ struct DeviceShare {
     double done = 0.0;      // fraction it did (planned, less what failed, plus what it redid)
     double busy_ms = 0.0;   // wall time of its shares
     double idle_ms = 0.0;   // from the end of its last share to the end of the stage
+    // What the busy time went to: device time of its kernels, and host wall time of its copies
+    // between host and device (construction: leaves, lists, pool and boxes read back; trace: the
+    // merged bricks uploaded) with the bytes they moved. The rest is host work and waiting.
+    double kernels_ms = 0.0;
+    double copies_ms = 0.0;
+    std::uint64_t copied_bytes = 0;
     double rate = 0.0;      // work units per ms it reached (0 when it did nothing)
     std::string failure;    // why it left the run ("" when it did not)
     std::string limit;      // why its parts were made smaller ("" when they were not)
@@ -74,7 +83,8 @@ struct DeviceShare {
 // One split stage: "construct" (units: edit-list entries of the split level) or "trace" (pixels).
 struct StageSplit {
     std::string stage;
-    std::string basis;  // "measured rates" or kStaticBasis
+    std::string workload;  // the rate store's key: scene and brick size
+    std::string basis;     // "measured rates" or kStaticBasis
     double work = 0.0;  // units in all
     double wall_ms = 0.0;
     std::vector<DeviceShare> devices;

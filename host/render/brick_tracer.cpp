@@ -12,22 +12,22 @@
 
 namespace sdfbrick::render {
 
-std::string_view to_string(Method m) { return m == Method::sphere ? "sphere" : "analytic"; }
+std::string_view to_string(Method m) {
+    return m == Method::sphere ? "sphere" : m == Method::analytic ? "analytic" : "hybrid";
+}
 std::string_view to_string(NormalMethod n) {
     return n == NormalMethod::central ? "central" : n == NormalMethod::tetra ? "tetra" : "continuous";
 }
 std::optional<Method> method_from_string(std::string_view s) {
-    if (s == "sphere") return Method::sphere;
-    if (s == "analytic") return Method::analytic;
+    for (Method m : kMethods)
+        if (s == to_string(m)) return m;
     return std::nullopt;
 }
-std::span<const Method> all_methods() {
-    static constexpr Method kAll[] = {Method::sphere, Method::analytic};
-    return kAll;
-}
-std::span<const NormalMethod> all_normal_methods() {
-    static constexpr NormalMethod kAll[] = {NormalMethod::central, NormalMethod::tetra, NormalMethod::continuous};
-    return kAll;
+std::string method_names(std::string_view last) {
+    std::string out;
+    for (std::size_t i = 0; i < kMethods.size(); ++i)
+        out += std::string(i == 0 ? "" : i + 1 == kMethods.size() ? last : ", ") + std::string(to_string(kMethods[i]));
+    return out;
 }
 std::optional<NormalMethod> normals_from_string(std::string_view s) {
     if (s == "central") return NormalMethod::central;
@@ -126,7 +126,7 @@ BrickTracer::~BrickTracer() = default;
 
 BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, const TraceSettings& t) {
     const std::string options = fmt::format("{} -DMETHOD={} -DNORMALS={}", b.layout().defines(),
-                                            t.method == Method::sphere ? 0 : 1, static_cast<int>(t.normals));
+                                            static_cast<int>(t.method), static_cast<int>(t.normals));
     auto& k = cache_[options];
     if (!k) k = std::make_unique<Kernels>(device_, options);
     return *k;
@@ -182,6 +182,7 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         for (std::size_t i = first; i < first + count; ++i)
             for (int ch = 0; ch < 3; ++ch) out.colour.pixels[3 * i + ch] = c[i].s[ch];
     }
+    out.warnings = trace_warnings(scene, bricks, out.buffer, settings.method);
     return out;
 }
 

@@ -2,11 +2,11 @@
 // brick ray tracer (kernels/trace.cl, kernels/shade.cl over kernels/sdf_trace.h).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,18 +21,21 @@
 #include "scene/scene.h"
 #include "sdf_types.h"
 #include "image/render_buffer.h"
+#include "render/warnings.h"
 
 namespace sdfbrick::render {
 
-enum class Method { sphere, analytic };                 // in-brick surface search
+enum class Method { sphere, analytic, hybrid };         // in-brick surface search (kernels/sdf_trace.h METHOD)
 enum class NormalMethod { central, tetra, continuous };  // see kernels/sdf_trace.h
+inline constexpr std::array<Method, 3> kMethods{Method::sphere, Method::analytic, Method::hybrid};
+inline constexpr std::array<NormalMethod, 3> kNormalMethods{NormalMethod::central, NormalMethod::tetra,
+                                                            NormalMethod::continuous};
 std::string_view to_string(Method m);
 std::string_view to_string(NormalMethod n);
 std::optional<Method> method_from_string(std::string_view s);
 std::optional<NormalMethod> normals_from_string(std::string_view s);
-// Every in-brick method and every normal rule, in declaration order (what the stability atlas runs).
-std::span<const Method> all_methods();
-std::span<const NormalMethod> all_normal_methods();
+// "sphere, analytic or hybrid" (sep ", ", last " or "): the method names for messages and help.
+std::string method_names(std::string_view last = " or ");
 
 // Every geometry's bricks (construction), their trees and the top level (bvh), and the arrays the
 // tracer reads: one pool for all geometries and a table of SdfBrickGeometry.
@@ -84,6 +87,7 @@ struct TraceResult {
     Image colour;            // shaded mode only
     double trace_ms = 0.0;   // device time of the primary rays
     double shade_ms = 0.0;   // device time of shading and its secondary rays
+    std::vector<TraceWarning> warnings;  // render/warnings.h: defined output that may be wrong
 };
 
 // Light, penumbra and occlusion radius for the shaded mode, from the scene's light and size.

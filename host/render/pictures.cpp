@@ -8,7 +8,7 @@ namespace sdfbrick::render {
 namespace {
 
 unsigned visits(const cl_uint2& a) { return a.s[1] & 0xFFFFu; }
-unsigned steps(const cl_uint2& a) { return a.s[1] >> 16; }
+unsigned steps(const cl_uint2& a) { return (a.s[1] >> 16) & 0x7FFFu; }
 
 }  // namespace
 
@@ -51,6 +51,7 @@ WorkCounts work_counts(const RenderBuffer& b) {
     for (const cl_uint2& a : b.aux) {
         w.node_visits += visits(a);
         w.brick_steps += steps(a);
+        w.capped_rays += (a.s[1] & SDF_TRACE_CAPPED) != 0u;
     }
     if (b.pixels() > 0) {
         w.node_visits /= static_cast<double>(b.pixels());

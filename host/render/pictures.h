@@ -1,6 +1,8 @@
 // Pictures for people of the brick tracer's per-pixel counters (aux, see kernels/trace.cl).
 #pragma once
 
+#include <cstdint>
+
 #include "image/image.h"
 #include "image/render_buffer.h"
 
@@ -14,10 +16,12 @@ Image brick_image(const RenderBuffer& b);
 // 1 on hits, 0 on misses (one channel).
 Image mask_image(const RenderBuffer& b);
 
-// Mean BVH node visits and in-brick steps per pixel.
+// Mean BVH node visits and in-brick steps per pixel, and the rays whose search in some brick stopped
+// at a kernel loop bound (SDF_TRACE_CAPPED: the answer there may be a miss that should be a hit).
 struct WorkCounts {
     double node_visits = 0.0;
     double brick_steps = 0.0;
+    std::uint64_t capped_rays = 0;
 };
 WorkCounts work_counts(const RenderBuffer& b);
 

@@ -15,8 +15,8 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 21> kNames = {
-    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin",
+constexpr std::array<std::string_view, 22> kNames = {
+    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt",
     // The stability atlas's hard cases (docs/stability.md), one failure mode each.
     "stability/grazing_plane", "stability/grazing_cylinder", "stability/sub_voxel", "stability/blend_tiny",
     "stability/blend_huge", "stability/ellipsoid", "stability/menger6", "stability/instance_stack",
@@ -245,6 +245,42 @@ Scene thin(Rng& rng) {
         g.edits.push_back(e);
     }
     return finish("thin", 0.0, g, orbit({0.1, 0.4, 0.2}, 3.2, 20.0, 20.0));
+}
+
+// The rotation that takes the primitive's +y axis to the unit vector `dir`.
+glm::dquat y_to(const glm::dvec3& dir) {
+    const glm::dvec3 y(0.0, 1.0, 0.0);
+    const glm::dvec3 axis = glm::cross(y, dir);
+    const double s = glm::length(axis);
+    if (s < 1e-9) return dir.y > 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : glm::dquat(0.0, 1.0, 0.0, 0.0);
+    return unit(glm::angleAxis(std::atan2(s, glm::dot(y, dir)), axis / s));
+}
+
+// A sculpted ball: 1024 brush strokes of 8 smoothly blended capsule segments each (8,193 edits),
+// walking over a sphere of radius 2; a quarter of the strokes carve. Every sample near the
+// surface sees tens of small edits: the heavy edit-list case.
+Scene sculpt(Rng& rng) {
+    Geometry g;
+    const double ball = 2.0;
+    g.edits.push_back(make_edit(Primitive::Sphere, {ball, 0, 0, 0}, {0.0, 0.0, 0.0}));
+    for (int stroke = 0; stroke < 1024; ++stroke) {
+        glm::dvec3 at = rng.unit_vector();
+        glm::dvec3 dir = glm::normalize(glm::cross(at, rng.unit_vector()));
+        const double radius = rng.uniform(0.03, 0.07), blend = r4(rng.uniform(0.03, 0.08));
+        const bool carve = rng.uniform() < 0.25;
+        for (int seg = 0; seg < 8; ++seg) {
+            Edit e = make_edit(Primitive::Capsule, {0.08, radius, 0, 0}, at * (ball + rng.uniform(-0.01, 0.01)));
+            e.transform.rotation = y_to(dir);
+            e.op = carve ? Op::Subtract : Op::Add;
+            e.blend = blend;
+            g.edits.push_back(e);
+            // Step along the stroke, back onto the ball, and turn a little within its tangent plane.
+            at = glm::normalize(at + 0.07 * dir);
+            dir = glm::normalize(dir + jitter(rng, 0.3));
+            dir = glm::normalize(dir - glm::dot(dir, at) * at);
+        }
+    }
+    return finish("sculpt", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.0, 30.0, 20.0));
 }
 
 // ---- the stability atlas's hard cases (docs/stability.md) ----
@@ -485,9 +521,9 @@ std::span<const std::string_view> generated_scene_names() { return kNames; }
 Scene generate_scene(std::string_view name, std::uint64_t seed) {
     using Generator = Scene (*)(Rng&);
     static constexpr std::array<Generator, kNames.size()> kGenerators = {
-        spheres, drops, cubes, rain, fractal, board, thin, grazing_plane, grazing_cylinder, sub_voxel, blend_tiny,
-        blend_huge, ellipsoid, menger6, instance_stack, far, camera_inside, camera_on_face, face_rays, edits_65536,
-        instances_10000};
+        spheres, drops, cubes, rain, fractal, board, thin, sculpt, grazing_plane, grazing_cylinder, sub_voxel,
+        blend_tiny, blend_huge, ellipsoid, menger6, instance_stack, far, camera_inside, camera_on_face, face_rays,
+        edits_65536, instances_10000};
     const auto it = std::find(kNames.begin(), kNames.end(), name);
     if (it == kNames.end())
         throw InputError(fmt::format("unknown scene \"{}\" (known: {})", name, fmt::join(kNames, ", ")));

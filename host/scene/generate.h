@@ -14,9 +14,8 @@ namespace sdfbrick {
 
 inline constexpr std::uint64_t kDefaultSceneSeed = 1;
 
-// Names: spheres, drops, cubes, rain, fractal, board, thin, and the stability atlas's hard cases
-// "stability/NAME" (docs/stability.md); generated_scene_names() lists them all. Unknown name ->
-// InputError.
+// Names: generated_scene_names(), the atlas's hard cases among them as "stability/NAME"
+// (docs/stability.md). Unknown name -> InputError.
 Scene generate_scene(std::string_view name, std::uint64_t seed = kDefaultSceneSeed);
 std::span<const std::string_view> generated_scene_names();
 

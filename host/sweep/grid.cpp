@@ -11,6 +11,7 @@
 
 #include "core/errors.h"
 #include "core/quote.h"
+#include "render/brick_tracer.h"
 
 namespace sdfbrick::sweep {
 
@@ -106,7 +107,8 @@ void SweepSpec::validate() const {
     check_each(formats, "formats", [](const std::string& v) { return v == "int8" || v == "int16" || v == "float"; },
                "int8, int16 or float");
     check_each(samples, "samples", [](int v) { return v == 8 || v == 10; }, "8 or 10");
-    check_each(methods, "methods", [](const std::string& v) { return v == "sphere" || v == "analytic"; }, "sphere or analytic");
+    check_each(methods, "methods", [](const std::string& v) { return render::method_from_string(v).has_value(); },
+               render::method_names().c_str());
     check_each(normals, "normals", [](const std::string& v) { return v == "central" || v == "tetra" || v == "continuous"; },
                "central, tetra or continuous");
     if (width < 1 || width > 3840 || height < 1 || height > 2160)

@@ -24,7 +24,7 @@ struct SweepSpec {
     std::vector<bool> culls;
     std::vector<std::string> formats;              // int8, int16, float
     std::vector<int> samples;                      // 8 (one-voxel apron) or 10 (two-voxel apron)
-    std::vector<std::string> methods;              // sphere, analytic
+    std::vector<std::string> methods;              // sphere, analytic, hybrid
     std::vector<std::string> normals;              // central, tetra, continuous
     std::string devices;                           // a device spec (see ocl::select_devices); "" = -d or the default
     int width = 640, height = 360;                 // trace and reference image size

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,6 +16,7 @@
 #include "image/image.h"
 #include "pipeline/run.h"
 #include "reference/device_tracer.h"
+#include "render/pictures.h"
 #include "scene/scene_json.h"
 #include "scene/to_device.h"
 
@@ -37,10 +39,11 @@ struct Lists {
 
 Lists resolve_lists(const StabilitySpec& spec) {
     Lists l;
-    const auto methods = render::all_methods();
-    const auto normals = render::all_normal_methods();
-    l.methods = spec.methods.empty() ? std::vector<render::Method>(methods.begin(), methods.end()) : spec.methods;
-    l.normals = spec.normals.empty() ? std::vector<render::NormalMethod>(normals.begin(), normals.end()) : spec.normals;
+    l.methods = spec.methods.empty() ? std::vector<render::Method>(render::kMethods.begin(), render::kMethods.end())
+                                     : spec.methods;
+    l.normals = spec.normals.empty()
+                    ? std::vector<render::NormalMethod>(render::kNormalMethods.begin(), render::kNormalMethods.end())
+                    : spec.normals;
     const std::vector<construct::BrickFormat> formats =
         spec.formats.empty() ? std::vector<construct::BrickFormat>{construct::BrickFormat::int8, construct::BrickFormat::int16,
                                                                    construct::BrickFormat::float32}
@@ -148,6 +151,7 @@ public:
             }
         }
         c.failures = c.error ? std::vector<std::string>{"error"} : threshold_failures(c.accuracy, kStabilityThresholds);
+        if (c.capped_rays > 0) c.failures.push_back("step cap");
         if (c.device_differences.value_or(0) > 0) c.failures.push_back("devices");
         return c;
     }
@@ -171,6 +175,8 @@ private:
             const render::SceneBricks& bricks = lane.build->bricks;
             const std::vector<double> voxels = pixel_voxels(scene_, bricks, buffer);
             c.accuracy = reference::compare(buffer, reference_, voxels);
+            c.capped_rays = render::work_counts(buffer).capped_rays;
+            for (const render::TraceWarning& w : run.trace->warnings) c.warnings.push_back(w.message);
             c.bricks = bricks.bricks;
             c.build_ms = lane.build->build_ms.median;
             c.trace_ms = run.trace_ms.median;
@@ -282,6 +288,8 @@ nlohmann::json to_json(const StabilityReport& r) {
             j["error"] = *c.error;
         } else {
             j["accuracy"] = reference::to_json(c.accuracy);
+            j["capped_rays"] = c.capped_rays;
+            j["warnings"] = c.warnings;
             j["bricks"] = c.bricks;
             j["build_ms"] = c.build_ms;
             j["trace_ms"] = c.trace_ms;
@@ -309,6 +317,7 @@ std::string cell_text(const StabilityCell& c) {
                      "build {:8.1f} ms trace {:7.1f} ms",
                      100.0 * a.mismatch_fraction, a.depth_error_p99, a.depth_error_max, a.normal_error_mean_deg,
                      a.normal_error_p99_deg, c.build_ms, c.trace_ms);
+    if (c.capped_rays > 0) s += fmt::format("  {} rays at the step cap", c.capped_rays);
     if (c.device_differences) s += fmt::format("  devices differ in {} px", *c.device_differences);
     if (c.failed()) s += fmt::format("  FAIL ({})", fmt::join(c.failures, ", "));
     return s + "\n";
@@ -318,15 +327,20 @@ std::string cell_text(const StabilityCell& c) {
 
 std::string to_text(const StabilityReport& r) {
     std::string s = fmt::format("stability: {} cells, {}x{}, devices: {}; fail when mismatch > {}%, depth p99 > {} "
-                                "voxels or normal p99 > {} deg\n",
+                                "voxels, normal p99 > {} deg, a ray at the step cap or devices differ\n",
                                 r.cells.size(), r.width, r.height, fmt::join(r.devices, ", "),
                                 100.0 * r.thresholds.mismatch_fraction, r.thresholds.depth_p99_voxels,
                                 r.thresholds.normal_p99_deg);
-    std::string last_case;
-    for (const StabilityCell& c : r.cells) {
-        if (c.case_name != last_case) s += fmt::format("{} ({}, bricks {})\n", c.case_name, c.file, c.brick_size);
-        last_case = c.case_name;
-        s += cell_text(c);
+    for (auto first = r.cells.begin(); first != r.cells.end();) {
+        const auto end = std::find_if(first, r.cells.end(), [&](const StabilityCell& c) { return c.case_name != first->case_name; });
+        s += fmt::format("{} ({}, bricks {})\n", first->case_name, first->file, first->brick_size);
+        std::set<std::string> warnings;  // each of the case's warnings once
+        for (auto c = first; c != end; ++c) {
+            s += cell_text(*c);
+            warnings.insert(c->warnings.begin(), c->warnings.end());
+        }
+        for (const std::string& w : warnings) s += "  warning: " + w + "\n";
+        first = end;
     }
     const std::size_t failed =
         static_cast<std::size_t>(std::count_if(r.cells.begin(), r.cells.end(), [](const StabilityCell& c) { return c.failed(); }));

@@ -19,7 +19,8 @@
 
 namespace sdfbrick::sweep {
 
-// A cell fails when any measure exceeds its threshold (docs/stability.md says why each is where it is).
+// A cell fails when any measure exceeds its threshold (docs/stability.md says why each is where it is),
+// when any ray stopped at a kernel loop bound (the step cap), or when devices differ.
 struct StabilityThresholds {
     double mismatch_fraction = 0.001;  // pixels hit in one image only, of the pixels compared
     double depth_p99_voxels = 1.0;     // depth error, 99th percentile, in the object's finest voxels
@@ -39,8 +40,8 @@ StabilityCase parse_case(const std::string& text, double default_brick_size);
 
 struct StabilitySpec {
     std::vector<StabilityCase> cases;
-    std::vector<render::Method> methods;         // empty: render::all_methods()
-    std::vector<render::NormalMethod> normals;   // empty: render::all_normal_methods()
+    std::vector<render::Method> methods;         // empty: render::kMethods
+    std::vector<render::NormalMethod> normals;   // empty: render::kNormalMethods
     std::vector<construct::BrickFormat> formats;  // empty: int8, int16, float
     std::vector<bool> adaptive;                  // empty: uniform and adaptive
     double tolerance_voxels = 0.25;              // adaptive builds: tolerance in voxels of the finest brick
@@ -58,11 +59,14 @@ struct StabilityCell {
     double tolerance = 0.0;  // geometry units; 0 = uniform
     // On the first device, against its reference tracer; depth in each pixel's object's finest voxel.
     reference::AccuracyMetrics accuracy;
+    std::uint64_t capped_rays = 0;      // first device: rays whose search in some brick stopped at a loop bound
+    std::vector<std::string> warnings;  // first device: the trace's warnings (render/warnings.h), one line each
     std::uint64_t bricks = 0;
     double build_ms = 0.0, trace_ms = 0.0;  // first device, device time of the construction and the trace
     std::optional<std::uint64_t> device_differences;  // several devices: pixels whose hit or normal differ from the first's
     std::optional<std::string> error;       // the cell could not run (the message); counts as a failure
-    std::vector<std::string> failures;      // the thresholds exceeded: "mismatch", "depth", "normals", "devices", "error"
+    // The thresholds exceeded: "mismatch", "depth", "normals", "step cap", "devices", "error".
+    std::vector<std::string> failures;
 
     bool failed() const { return !failures.empty(); }
 };
@@ -87,7 +91,7 @@ struct StabilityProgress {
 StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices,
                               const std::function<void(const StabilityProgress&)>& progress);
 
-// The thresholds exceeded by the figures of a cell (no error, no devices checked).
+// The thresholds exceeded by the accuracy figures of a cell.
 std::vector<std::string> threshold_failures(const reference::AccuracyMetrics& a, const StabilityThresholds& t);
 
 // {"command": "stability", "thresholds", "devices", "width", "height", "tolerance_voxels", "seconds",

@@ -53,10 +53,11 @@ TEST(Cli, SceneInfoReportsEditCounts) {
 }
 
 TEST(Cli, GeneratorReproducesShippedScenes) {
-    for (const std::string_view name : generated_scene_names()) {
-        const CliRun r = sdfbrick("scene generate " + std::string(name));
+    for (const std::string_view view : generated_scene_names()) {
+        const std::string name(view);
+        const CliRun r = sdfbrick("scene generate " + name);
         ASSERT_EQ(r.status, 0) << r.err;
-        EXPECT_EQ(r.out, read_file(scene_path(std::string(name)))) << name << ": scenes/" << name
+        EXPECT_EQ(r.out, read_file(scene_path(name))) << name << ": scenes/" << name
                                                       << ".json differs from `sdfbrick scene generate " << name << "`";
     }
 }

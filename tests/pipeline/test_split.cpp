@@ -90,6 +90,15 @@ TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
         EXPECT_EQ(split["bricks"], one["bricks"]) << scene;
         EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << scene;
         for (const auto& d : split["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << scene;
+        // Where the time went: every device ran kernels and copied; each tracing device received the
+        // whole merged scene, so the same bytes.
+        for (const char* stage : {"construct", "trace"})
+            for (const auto& d : split[stage]["devices"]) {
+                EXPECT_GT(d["kernels_ms"].get<double>(), 0.0) << stage;
+                EXPECT_GT(d["copied_bytes"].get<std::uint64_t>(), 0u) << stage;
+                EXPECT_LE(d["copies_ms"].get<double>(), d["busy_ms"].get<double>()) << stage;
+            }
+        EXPECT_EQ(split["trace"]["devices"][0]["copied_bytes"], split["trace"]["devices"][1]["copied_bytes"]);
     }
 }
 
@@ -107,10 +116,12 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     nlohmann::json store = nlohmann::json::parse(read_file(dir / "rates.json"));
     ASSERT_EQ(store.size(), 2u);
     double r = 1.0;
+    const std::string workload = "spheres at 0.125";
+    EXPECT_EQ(first["construct"]["workload"], workload);
     for (auto& [key, rates] : store.items()) {  // keys begin with the device index: 0 first
         for (const char* stage : {"construct", "trace"}) {
-            ASSERT_GT(rates[stage].get<double>(), 0.0) << key;
-            rates[stage] = r;
+            ASSERT_GT(rates[workload][stage].get<double>(), 0.0) << key;
+            rates[workload][stage] = r;
         }
         r = 3.0;
     }
@@ -126,7 +137,7 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     // Under a tenth of the total weight: no share at all.
     r = 1.0;
     for (auto& [key, rates] : store.items()) {
-        for (const char* stage : {"construct", "trace"}) rates[stage] = r;
+        for (const char* stage : {"construct", "trace"}) rates[workload][stage] = r;
         r = 100.0;
     }
     test::write_text(dir / "rates.json", store.dump());
@@ -136,6 +147,15 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
         EXPECT_EQ(third[stage]["devices"][1]["done"].get<double>(), 1.0) << stage;
     }
     EXPECT_EQ(third["trace_digest"], first["trace_digest"]);
+    // Rates of another workload (scene and brick size) are not this one's: device 0's rate for
+    // spheres at 0.125 beside device 1's for another scene gives the static estimate.
+    for (auto& [key, rates] : store.items()) {
+        if (key.front() == '1') rates["other at 0.125"] = rates[workload];
+        if (key.front() == '1') rates.erase(workload);
+    }
+    test::write_text(dir / "rates.json", store.dump());
+    const nlohmann::json fourth = run_json(dir, env, args);
+    for (const char* stage : {"construct", "trace"}) EXPECT_EQ(fourth[stage]["basis"], pipeline::kStaticBasis) << stage;
 }
 
 // A device that fails at its n-th launch has its share redone by the other: the same bits, and the

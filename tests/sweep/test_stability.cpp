@@ -66,7 +66,7 @@ TEST_P(SweepStabilityCase, MatchesTheTestTable) {
     spec.height = 55;
     ocl::DeviceSet devices = test::open_test_devices();
     const sweep::StabilityReport r = sweep::run_stability(spec, devices, {});
-    ASSERT_EQ(r.cells.size(), render::all_methods().size());
+    ASSERT_EQ(r.cells.size(), render::kMethods.size());
     for (const sweep::StabilityCell& c : r.cells) {
         const std::string method(render::to_string(c.method));
         ASSERT_FALSE(c.error) << method << ": " << *c.error;
@@ -80,20 +80,20 @@ TEST_P(SweepStabilityCase, MatchesTheTestTable) {
 
 // docs/stability.md, "What the tests assert": 97 x 55, int8, uniform, continuous normals.
 const CaseExpectation kCases[] = {
-    {"grazing_plane", 0.125, {{"sphere", "depth,normals"}, {"analytic", "depth,normals"}}},
-    {"grazing_cylinder", 0.125, {{"sphere", "mismatch,normals"}, {"analytic", "mismatch,normals"}}},
-    {"sub_voxel", 0.125, {{"sphere", "mismatch,depth,normals"}, {"analytic", "mismatch,depth,normals"}}},
-    {"blend_tiny", 0.125, {{"sphere", ""}, {"analytic", ""}}},
-    {"blend_huge", 0.125, {{"sphere", ""}, {"analytic", ""}}},
-    {"ellipsoid", 0.125, {{"sphere", "mismatch,normals"}, {"analytic", "mismatch,normals"}}},
-    {"menger6", 0.125, {{"sphere", "mismatch,depth,normals"}, {"analytic", "mismatch,depth,normals"}}},
-    {"instance_stack", 0.125, {{"sphere", ""}, {"analytic", ""}}},
-    {"far", 0.125, {{"sphere", "normals"}, {"analytic", "normals"}}},
-    {"camera_inside", 0.125, {{"sphere", "depth,normals"}, {"analytic", "depth,normals"}}},
-    {"camera_on_face", 0.125, {{"sphere", "depth"}, {"analytic", ""}}},
-    {"face_rays", 0.125, {{"sphere", "normals"}, {"analytic", "normals"}}},
-    {"instances_10000", 0.125, {{"sphere", "mismatch,normals"}, {"analytic", "mismatch,normals"}}},
-    {"edits_65536", 0.5, {{"sphere", "mismatch,depth,normals"}, {"analytic", "mismatch,depth,normals"}}},
+    {"grazing_plane", 0.125, {{"sphere", "depth,normals,step cap"}, {"analytic", "depth,normals"}, {"hybrid", "depth,normals"}}},
+    {"grazing_cylinder", 0.125, {{"sphere", "mismatch,normals,step cap"}, {"analytic", "mismatch,normals"}, {"hybrid", "mismatch,normals"}}},
+    {"sub_voxel", 0.125, {{"sphere", "mismatch,depth,normals"}, {"analytic", "mismatch,depth,normals"}, {"hybrid", "mismatch,depth,normals"}}},
+    {"blend_tiny", 0.125, {{"sphere", "step cap"}, {"analytic", ""}, {"hybrid", ""}}},
+    {"blend_huge", 0.125, {{"sphere", "step cap"}, {"analytic", ""}, {"hybrid", ""}}},
+    {"ellipsoid", 0.125, {{"sphere", "mismatch,normals,step cap"}, {"analytic", "mismatch,normals"}, {"hybrid", "mismatch,normals"}}},
+    {"menger6", 0.125, {{"sphere", "mismatch,depth,normals,step cap"}, {"analytic", "mismatch,depth,normals"}, {"hybrid", "mismatch,depth,normals"}}},
+    {"instance_stack", 0.125, {{"sphere", ""}, {"analytic", ""}, {"hybrid", ""}}},
+    {"far", 0.125, {{"sphere", "normals"}, {"analytic", "normals"}, {"hybrid", "normals"}}},
+    {"camera_inside", 0.125, {{"sphere", "depth,normals"}, {"analytic", "depth,normals"}, {"hybrid", "depth,normals"}}},
+    {"camera_on_face", 0.125, {{"sphere", "depth,step cap"}, {"analytic", ""}, {"hybrid", ""}}},
+    {"face_rays", 0.125, {{"sphere", "normals"}, {"analytic", "normals"}, {"hybrid", "normals"}}},
+    {"instances_10000", 0.125, {{"sphere", "mismatch,normals,step cap"}, {"analytic", "mismatch,normals"}, {"hybrid", "mismatch,normals"}}},
+    {"edits_65536", 0.5, {{"sphere", "mismatch,depth,normals,step cap"}, {"analytic", "mismatch,depth,normals"}, {"hybrid", "mismatch,depth,normals"}}},
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, SweepStabilityCase, ::testing::ValuesIn(kCases),
