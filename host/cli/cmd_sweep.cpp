@@ -34,11 +34,6 @@ struct SweepOptions {
     std::optional<std::string> cache, shard;
 };
 
-std::string clock_text(double s) {
-    const auto t = static_cast<long>(s + 0.5);
-    return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, t / 60 % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
-}
-
 sweep::SweepSpec make_spec(const SweepOptions& o, const GlobalOptions& global) {
     sweep::SweepSpec s;
     if (o.file) s = sweep::spec_from_json(load_json(*o.file), *o.file);

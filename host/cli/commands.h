@@ -70,5 +70,9 @@ void add_sweep_commands(CLI::App& app, const GlobalOptions& global);  // sweep, 
 void add_tune_command(CLI::App& app, const GlobalOptions& global);
 void add_export_commands(CLI::App& app, const GlobalOptions& global);  // export, sample
 void add_compare_command(CLI::App& app);
+void add_stability_command(CLI::App& app, const GlobalOptions& global);
+
+// "4m05s", "1h02m": elapsed times and ETAs of progress lines.
+std::string clock_text(double seconds);
 
 }  // namespace sdfbrick::cli

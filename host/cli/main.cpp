@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     cli::add_tune_command(app, global);
     cli::add_export_commands(app, global);
     cli::add_compare_command(app);
+    cli::add_stability_command(app, global);
 
     try {
         // A closed standard output would be reused by the next file opened, and what is meant for

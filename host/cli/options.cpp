@@ -93,4 +93,9 @@ const CLI::Validator& finite_number() {
     return check;
 }
 
+std::string clock_text(double seconds) {
+    const auto t = static_cast<long>(seconds + 0.5);
+    return t >= 3600 ? fmt::format("{}h{:02}m", t / 3600, t / 60 % 60) : fmt::format("{}m{:02}s", t / 60, t % 60);
+}
+
 }  // namespace sdfbrick::cli

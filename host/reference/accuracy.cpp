@@ -27,6 +27,15 @@ void check_pair(const RenderBuffer& test, const RenderBuffer& reference, double 
         throw std::invalid_argument("accuracy: voxel_world must be a finite value > 0, got " + std::to_string(voxel_world));
 }
 
+void check_voxels(std::span<const double> pixel_voxel, std::size_t pixels) {
+    if (pixel_voxel.size() != pixels)
+        throw std::invalid_argument("accuracy: " + std::to_string(pixel_voxel.size()) + " pixel voxels for " +
+                                    std::to_string(pixels) + " pixels");
+    for (const double v : pixel_voxel)
+        if (!(v > 0.0) || !std::isfinite(v))
+            throw std::invalid_argument("accuracy: a pixel's voxel must be a finite value > 0, got " + std::to_string(v));
+}
+
 bool unconverged(const RenderBuffer& reference, std::size_t i) { return (reference.aux[i].s[1] & SDF_REF_UNCONVERGED) != 0u; }
 
 double depth_of(const RenderBuffer& b, std::size_t i) { return static_cast<double>(b.hit[i].s[3]); }
@@ -64,10 +73,9 @@ glm::dvec3 heat(double e) {
     return stops[seg] * (1.0 - f) + stops[seg + 1] * f;
 }
 
-}  // namespace
-
-AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world) {
-    check_pair(test, reference, voxel_world);
+// compare() with pixel i's voxel given by voxel(i).
+template <class Voxel>
+AccuracyMetrics compare_with(const RenderBuffer& test, const RenderBuffer& reference, Voxel&& voxel) {
     AccuracyMetrics m;
     std::vector<double> depth_err, normal_err;
     double sq = 0.0;
@@ -81,7 +89,7 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
         if (ht != hr) ++m.hit_mismatches;
         if (ht && hr) {
             ++m.both_hit;
-            depth_err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel_world);
+            depth_err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel(i));
             normal_err.push_back(angle_deg(test.normal(i), reference.normal(i)));
         }
         const glm::dvec3 d = normal_colour(test, i) - normal_colour(reference, i);
@@ -96,6 +104,19 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
     const double mse = m.pixels == 0 ? 0.0 : sq / (3.0 * static_cast<double>(m.pixels));
     m.psnr_db = mse > 0.0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
     return m;
+}
+
+}  // namespace
+
+AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world) {
+    check_pair(test, reference, voxel_world);
+    return compare_with(test, reference, [voxel_world](std::size_t) { return voxel_world; });
+}
+
+AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel) {
+    check_pair(test, reference, 1.0);
+    check_voxels(pixel_voxel, reference.pixels());
+    return compare_with(test, reference, [pixel_voxel](std::size_t i) { return pixel_voxel[i]; });
 }
 
 nlohmann::json to_json(const AccuracyMetrics& m) {
@@ -117,6 +138,13 @@ nlohmann::json to_json(const AccuracyMetrics& m) {
 Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world,
                        double saturation_voxels) {
     check_pair(test, reference, voxel_world);
+    return difference_image(test, reference, std::vector<double>(reference.pixels(), voxel_world), saturation_voxels);
+}
+
+Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel,
+                       double saturation_voxels) {
+    check_pair(test, reference, 1.0);
+    check_voxels(pixel_voxel, reference.pixels());
     if (!(saturation_voxels > 0.0) || !std::isfinite(saturation_voxels))
         throw std::invalid_argument("accuracy: saturation_voxels must be a finite value > 0");
     Image im(test.width, test.height, 3);
@@ -130,7 +158,7 @@ Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, 
         } else if (!ht && hr) {
             c = glm::dvec3(0.0, 1.0, 1.0);
         } else if (ht && hr) {
-            c = heat(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel_world / saturation_voxels);
+            c = heat(std::abs(depth_of(test, i) - depth_of(reference, i)) / pixel_voxel[i] / saturation_voxels);
         }
         set_pixel(im, i, c);
     }

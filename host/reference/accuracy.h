@@ -26,6 +26,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,10 @@ struct AccuracyMetrics {
 // Throws std::invalid_argument when the sizes differ (or a buffer's arrays do not match its size) or
 // voxel_world is not a finite value > 0.
 AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world);
+// The same with pixel i's depth error in units of pixel_voxel[i] (for scenes whose objects' voxels
+// differ in world size: each pixel measured in the voxels of the object it shows). Throws as above,
+// and for a pixel_voxel of another size or a value that is not finite and > 0.
+AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel);
 
 // Every field under its own name; psnr_db is null when it is infinite.
 nlohmann::json to_json(const AccuracyMetrics& m);
@@ -67,6 +72,9 @@ inline constexpr double kDifferenceSaturationVoxels = 1.0;
 //     -> 1 white (1, 1, 1) (so a both-hit pixel without error is still told apart from a miss).
 // Throws as compare() does, and std::invalid_argument for saturation_voxels <= 0.
 Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, double voxel_world,
+                       double saturation_voxels = kDifferenceSaturationVoxels);
+// The same with pixel i's depth error in units of pixel_voxel[i] (as compare() with per-pixel voxels).
+Image difference_image(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel,
                        double saturation_voxels = kDifferenceSaturationVoxels);
 
 }  // namespace sdfbrick::reference

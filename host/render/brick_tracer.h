@@ -28,6 +28,8 @@ namespace sdfbrick::render {
 enum class Method { sphere, analytic, hybrid };         // in-brick surface search (kernels/sdf_trace.h METHOD)
 enum class NormalMethod { central, tetra, continuous };  // see kernels/sdf_trace.h
 inline constexpr std::array<Method, 3> kMethods{Method::sphere, Method::analytic, Method::hybrid};
+inline constexpr std::array<NormalMethod, 3> kNormalMethods{NormalMethod::central, NormalMethod::tetra,
+                                                            NormalMethod::continuous};
 std::string_view to_string(Method m);
 std::string_view to_string(NormalMethod n);
 std::optional<Method> method_from_string(std::string_view s);

@@ -1,10 +1,12 @@
 #include "scene/generate.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <glm/gtc/constants.hpp>
 
 #include "core/errors.h"
 #include "core/hash.h"
@@ -13,7 +15,13 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 8> kNames = {"spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt"};
+constexpr std::array<std::string_view, 22> kNames = {
+    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt",
+    // The stability atlas's hard cases (docs/stability.md), one failure mode each.
+    "stability/grazing_plane", "stability/grazing_cylinder", "stability/sub_voxel", "stability/blend_tiny",
+    "stability/blend_huge", "stability/ellipsoid", "stability/menger6", "stability/instance_stack",
+    "stability/far", "stability/camera_inside", "stability/camera_on_face", "stability/face_rays",
+    "stability/edits_65536", "stability/instances_10000"};
 
 // Files keep 4 decimals: readable, and what is generated is exactly what is loaded back.
 double r4(double v) { return std::round(v * 1e4) / 1e4; }
@@ -275,22 +283,253 @@ Scene sculpt(Rng& rng) {
     return finish("sculpt", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.0, 30.0, 20.0));
 }
 
+// ---- the stability atlas's hard cases (docs/stability.md) ----
+// Sizes are chosen against the voxel the atlas and its tests build with: bricks of 0.125 (voxel
+// 0.0208; 0.25 for the 65,536 edits in the tests). Lattice coordinates (multiples of 0.25) lie on brick faces at
+// both: a domain's origin is on the leaf lattice (construct/domain.h).
+
+Camera look_at(glm::dvec3 eye, glm::dvec3 target, double fov_deg) {
+    Camera c;
+    c.kind = Camera::Kind::LookAt;
+    c.eye = eye;
+    c.target = target;
+    c.fov_deg = fov_deg;
+    return c;
+}
+
+Edit subtracted(Edit e) {
+    e.op = Op::Subtract;
+    return e;
+}
+
+// A flat 8 x 0.2 x 8 slab seen from 0.5 degrees above its top face: the centre ray meets it at 89.5
+// degrees from its normal, and every ray below runs along it for many bricks.
+Scene grazing_plane(Rng&) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Box, {4.0, 0.1, 4.0, 0}, {0.0, 0.0, 0.0}));
+    Camera c = orbit({0.0, 0.1, 0.0}, 12.0, 20.0, 0.5);
+    c.fov_deg = 30.0;
+    return finish("grazing_plane", 0.0, g, c);
+}
+
+// A cylinder 6 long and 0.08 in radius seen end-on from just off its axis: the cap faces the camera,
+// the side is met at grazing angles along its whole length.
+Scene grazing_cylinder(Rng&) {
+    Geometry g;
+    Edit e = make_edit(Primitive::Cylinder, {3.0, 0.08, 0, 0}, {0.0, 0.0, 0.0});
+    e.transform.rotation = unit(glm::angleAxis(glm::half_pi<double>(), glm::dvec3(1.0, 0.0, 0.0)));
+    g.edits.push_back(e);
+    return finish("grazing_cylinder", 0.0, g, look_at({0.03, 0.05, 5.0}, {0.0, 0.0, -3.0}, 10.0));
+}
+
+// Plates 0.006 thick, needles of radius 0.002 and a shell 0.005 thick on a ground slab: every one
+// thinner than the finest voxel either build uses.
+Scene sub_voxel(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Box, {1.5, 0.05, 1.5, 0}, {0.0, -0.05, 0.0}));
+    g.edits.push_back(make_edit(Primitive::Sphere, {0.4, 0, 0, 0}, {-0.7, 0.45, -0.3}));
+    g.edits.push_back(subtracted(make_edit(Primitive::Sphere, {0.395, 0, 0, 0}, {-0.7, 0.45, -0.3})));
+    g.edits.push_back(subtracted(make_edit(Primitive::Box, {0.5, 0.5, 0.5, 0}, {-0.7, 0.45, 0.2})));
+    for (int i = 0; i < 6; ++i) {  // plates
+        const std::array<double, 4> size{rng.uniform(0.15, 0.3), 0.003, rng.uniform(0.15, 0.3), 0};
+        const glm::dvec3 at{-0.1 + 0.25 * i, 0.35 + rng.uniform(-0.1, 0.1), -0.5 + rng.uniform(-0.2, 0.2)};
+        Edit e = make_edit(Primitive::Box, size, at);
+        const double angle = rng.uniform(0.3, 1.3);
+        const glm::dvec3 axis = rng.in_box(glm::dvec3(-1.0), glm::dvec3(1.0)) + glm::dvec3(0.0, 0.0, 1e-3);
+        e.transform.rotation = unit(glm::angleAxis(angle, glm::normalize(axis)));
+        g.edits.push_back(e);
+    }
+    for (int i = 0; i < 12; ++i) {  // needles
+        const double half = rng.uniform(0.15, 0.35);
+        const glm::dvec3 at{rng.uniform(-0.3, 1.0), rng.uniform(0.3, 0.5), rng.uniform(0.1, 0.8)};
+        Edit e = make_edit(Primitive::Capsule, {half, 0.002, 0, 0}, at);
+        const double tilt = rng.uniform(0.0, 1.5), turn = rng.uniform(0.0, 3.1);
+        e.transform.rotation = unit(glm::angleAxis(tilt, glm::dvec3(1.0, 0.0, 0.0)) *
+                                    glm::angleAxis(turn, glm::dvec3(0.0, 1.0, 0.0)));
+        g.edits.push_back(e);
+    }
+    return finish("sub_voxel", 0.0, g, orbit({0.1, 0.3, 0.1}, 3.0, 25.0, 25.0));
+}
+
+// Two spheres of radius 0.5 exactly touching, the second blended with radius `blend`.
+Scene touching(std::string name, double blend, double distance) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Sphere, {0.5, 0, 0, 0}, {-0.5, 0.0, 0.0}));
+    Edit b = make_edit(Primitive::Sphere, {0.5, 0, 0, 0}, {0.5, 0.0, 0.0});
+    b.blend = blend;
+    g.edits.push_back(b);
+    return finish(std::move(name), 0.0, g, orbit({0.0, 0.0, 0.0}, distance, 10.0, 15.0));
+}
+
+// A blend of 0.001: a neck far thinner than a voxel where the spheres meet.
+Scene blend_tiny(Rng&) { return touching("blend_tiny", 0.001, 3.0); }
+
+// A blend of 6, twelve times the radius: the edit reaches 6 units out, every brick of the domain is
+// in its range (culling's worst case), and the union swells to a blob of radius about 2.
+Scene blend_huge(Rng&) { return touching("blend_huge", 6.0, 8.0); }
+
+// An ellipsoid of semi-axes 3, 0.5 and 0.03 (100:1): its field is a bound that underestimates the
+// distance up to 100 times, so sphere steps near its rim are short.
+Scene ellipsoid(Rng&) {
+    Geometry g;
+    Edit e = make_edit(Primitive::Ellipsoid, {3.0, 0.5, 0.03, 0}, {0.0, 0.0, 0.0});
+    e.transform.rotation = unit(glm::angleAxis(0.4, glm::normalize(glm::dvec3(1.0, 2.0, 0.5))));
+    g.edits.push_back(e);
+    return finish("ellipsoid", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.5, 40.0, 30.0));
+}
+
+// One Menger sponge of 6 iterations: holes down to 2/729 of its size, far below a voxel.
+Scene menger6(Rng&) {
+    Geometry g;
+    Edit e = make_edit(Primitive::Menger, {1.0, 6.0, 0, 0}, {0.0, 0.0, 0.0});
+    e.transform.rotation = unit(glm::angleAxis(0.3, glm::dvec3(0.0, 1.0, 0.0)));
+    g.edits.push_back(e);
+    return finish("menger6", 0.0, g, orbit({0.0, 0.0, 0.0}, 4.5, 30.0, 25.0));
+}
+
+// One shape (a rounded box in a blended ring, every part several voxels thick) at scales 1e-3, 1e-2,
+// ..., 1e3, each rotated and at 5 times its scale from the eye, so
+// that all seven look the same size, in a ring around the view's centre. Each scale is an object of
+// its own copy of the geometry, so that a pixel's depth error is measured in the voxels of the
+// object it shows (a brick tells its geometry, not its instance).
+Scene instance_stack(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::RoundBox, {0.35, 0.35, 0.35, 0.1}, {0.0, 0.0, 0.0}));
+    Edit ring = make_edit(Primitive::Torus, {0.5, 0.08, 0, 0}, {0.0, 0.0, 0.0});
+    ring.blend = 0.05;
+    g.edits.push_back(ring);
+    Scene s = finish("instance_stack", 0.0, g, look_at({0.0, 0.0, 0.0}, {0.0, 0.0, -1.0}, 60.0));
+    s.geometries.clear();
+    s.objects.clear();
+    for (int k = -3; k <= 3; ++k) {
+        const double scale = std::pow(10.0, k);
+        const double angle = 2.0 * glm::pi<double>() * (k + 3) / 7.0;
+        Transform t;
+        t.scale = scale;
+        t.rotation = unit(rng.rotation());
+        t.translation = r4(5.0 * scale * glm::dvec3(0.3 * std::cos(angle), 0.3 * std::sin(angle), -1.0));
+        g.name = fmt::format("scale_1e{}", k);
+        s.geometries.push_back(g);
+        s.objects.push_back(Object{g.name, s.geometries.size() - 1, t});
+    }
+    return s;
+}
+
+// Geometry 1e4 units from the origin, seen from 1e3 units away through a 1 degree field of view:
+// positions, brick corners and ray origins keep about 1e-3 of absolute precision in float.
+Scene far(Rng& rng) {
+    Geometry g;
+    const glm::dvec3 at{1.0e4, 0.0, 0.0};
+    g.edits.push_back(make_edit(Primitive::RoundBox, {2.0, 0.2, 2.0, 0.1}, at + glm::dvec3(0.0, -0.6, 0.0)));
+    for (int i = 0; i < 5; ++i) {
+        const glm::dvec3 p = at + glm::dvec3(rng.uniform(-1.5, 1.5), rng.uniform(-0.2, 0.4), rng.uniform(-1.5, 1.5));
+        Edit e = make_edit(Primitive::Sphere, {rng.uniform(0.2, 0.5), 0, 0, 0}, p);
+        e.blend = 0.2;
+        g.edits.push_back(e);
+    }
+    Camera c = orbit(at + glm::dvec3(0.0, -0.3, 0.0), 1.0e3, 35.0, 20.0);
+    c.fov_deg = 1.0;
+    return finish("far", 0.0, g, c);
+}
+
+// The eye 1.2 units deep inside a solid sphere of radius 2 with cavities: no brick holds the eye,
+// and every ray starts in solid material.
+Scene camera_inside(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Sphere, {2.0, 0, 0, 0}, {0.0, 0.0, 0.0}));
+    for (int i = 0; i < 8; ++i) {
+        glm::dvec3 p = rng.unit_vector() * rng.uniform(0.9, 1.4);
+        p.z = -std::abs(p.z);  // in front of the eye
+        g.edits.push_back(subtracted(make_edit(Primitive::Sphere, {rng.uniform(0.2, 0.4), 0, 0, 0}, p)));
+    }
+    return finish("camera_inside", 0.0, g, look_at({0.0, 0.0, 0.8}, {0.0, 0.0, -1.0}, 70.0));
+}
+
+// The eye at (0.5, 0.5, 1), a corner of the brick lattice, 0.03 above a slab's top face: the eye
+// lies on the faces of the surface bricks under it, and rays start on brick boundaries.
+Scene camera_on_face(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Box, {2.0, 0.25, 2.5, 0}, {0.5, 0.22, -0.5}));
+    for (int i = 0; i < 6; ++i) {
+        const glm::dvec3 p{rng.uniform(-0.5, 1.5), 0.55, rng.uniform(-2.5, 0.0)};
+        Edit e = make_edit(Primitive::Sphere, {rng.uniform(0.1, 0.25), 0, 0, 0}, p);
+        e.blend = 0.1;
+        g.edits.push_back(e);
+    }
+    return finish("camera_on_face", 0.0, g, look_at({0.5, 0.5, 1.0}, {0.5, 0.3, -2.0}, 60.0));
+}
+
+// Boxes whose faces lie on the brick lattice (multiples of 0.25), seen from (0, 0.25, 3) along -z:
+// with an odd image size the centre column's rays lie in the plane x = 0 and the centre row's in
+// y = 0.25, both brick faces and box faces, and the centre ray runs along a box edge.
+Scene face_rays(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Box, {2.0, 0.25, 2.0, 0}, {0.0, -0.5, -1.0}));
+    g.edits.push_back(make_edit(Primitive::Box, {0.5, 0.25, 0.5, 0}, {0.5, 0.0, -1.0}));
+    g.edits.push_back(make_edit(Primitive::Box, {0.75, 0.5, 0.5, 0}, {-0.75, -0.25, -2.0}));
+    for (int i = 0; i < 6; ++i) {
+        const auto q = [&](double lo, double hi) { return 0.25 * std::floor(rng.uniform(lo, hi)); };
+        const double hx = 0.25 + q(0.0, 2.0), hy = 0.25 + q(0.0, 2.0), hz = 0.25 + q(0.0, 2.0);
+        const glm::dvec3 p{q(-6.0, 6.0), -0.25 + hy, q(-12.0, -4.0)};
+        g.edits.push_back(make_edit(Primitive::Box, {hx, hy, hz, 0}, p));
+    }
+    return finish("face_rays", 0.0, g, look_at({0.0, 0.25, 3.0}, {0.0, 0.25, -1.0}, 50.0));
+}
+
+// 65,536 short smooth strokes (the most a geometry holds): small upright capsules, each blended into
+// its neighbours, scattered over a 24 x 24 field in a layer 0.1 deep. Building costs about 65,536 x
+// (bricks each edit reaches) x samples per brick evaluations, so tests build it with coarse bricks.
+Scene edits_65536(Rng& rng) {
+    Geometry g;
+    for (unsigned i = 0; i < SDF_MAX_EDITS; ++i) {
+        const double x = rng.uniform(-12.0, 12.0), z = rng.uniform(-12.0, 12.0);
+        const glm::dvec3 p{x, 0.2 + 0.05 * std::sin(0.7 * x) * std::cos(0.5 * z), z};
+        Edit e = make_edit(Primitive::Capsule, {rng.uniform(0.01, 0.04), rng.uniform(0.01, 0.025), 0, 0}, p);
+        e.blend = r4(rng.uniform(0.01, 0.02));
+        g.edits.push_back(e);
+    }
+    return finish("edits_65536", 0.0, g, orbit({0.0, 0.0, 0.0}, 9.0, 30.0, 35.0));
+}
+
+// 10,000 instances of one small geometry (a blended post, ball and ring) on a 100 x 100 grid,
+// each turned about y and scaled by 0.8 .. 1.2.
+Scene instances_10000(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Cylinder, {0.1, 0.05, 0, 0}, {0.0, 0.1, 0.0}));
+    Edit ball = make_edit(Primitive::Sphere, {0.09, 0, 0, 0}, {0.0, 0.25, 0.0});
+    ball.blend = 0.05;
+    g.edits.push_back(ball);
+    g.edits.push_back(make_edit(Primitive::Torus, {0.12, 0.02, 0, 0}, {0.0, 0.02, 0.0}));
+    Scene s = finish("instances_10000", 0.0, g, orbit({0.0, 0.0, 0.0}, 30.0, 30.0, 35.0));
+    s.camera.fov_deg = 60.0;
+    s.objects.clear();
+    for (int z = 0; z < 100; ++z)
+        for (int x = 0; x < 100; ++x) {
+            Transform t;
+            t.scale = r4(rng.uniform(0.8, 1.2));
+            t.rotation = unit(glm::angleAxis(rng.uniform(0.0, 6.28), glm::dvec3(0.0, 1.0, 0.0)));
+            t.translation = r4(glm::dvec3(0.5 * x - 24.75, 0.0, 0.5 * z - 24.75));
+            s.objects.push_back(Object{fmt::format("i{}", 100 * z + x), 0, t});
+        }
+    return s;
+}
+
 }  // namespace
 
 std::span<const std::string_view> generated_scene_names() { return kNames; }
 
 Scene generate_scene(std::string_view name, std::uint64_t seed) {
+    using Generator = Scene (*)(Rng&);
+    static constexpr std::array<Generator, kNames.size()> kGenerators = {
+        spheres, drops, cubes, rain, fractal, board, thin, sculpt, grazing_plane, grazing_cylinder, sub_voxel,
+        blend_tiny, blend_huge, ellipsoid, menger6, instance_stack, far, camera_inside, camera_on_face, face_rays,
+        edits_65536, instances_10000};
+    const auto it = std::find(kNames.begin(), kNames.end(), name);
+    if (it == kNames.end())
+        throw InputError(fmt::format("unknown scene \"{}\" (known: {})", name, fmt::join(kNames, ", ")));
     // Each scene gets its own stream, so adding a scene never changes the others.
     Rng rng(seed ^ Fnv1a64().add(name).value());
-    if (name == "spheres") return spheres(rng);
-    if (name == "drops") return drops(rng);
-    if (name == "cubes") return cubes(rng);
-    if (name == "rain") return rain(rng);
-    if (name == "fractal") return fractal(rng);
-    if (name == "board") return board(rng);
-    if (name == "thin") return thin(rng);
-    if (name == "sculpt") return sculpt(rng);
-    throw InputError(fmt::format("unknown scene \"{}\" (known: {})", name, fmt::join(kNames, ", ")));
+    return kGenerators[static_cast<std::size_t>(it - kNames.begin())](rng);
 }
 
 }  // namespace sdfbrick

@@ -49,6 +49,24 @@ TEST(ReferenceAccuracy, DepthErrorsOfATwoByTwoImage) {
     EXPECT_DOUBLE_EQ(r.depth_error_mean, 0.875);
 }
 
+// Each pixel's depth error in its own voxel: the same depth error counts 4 voxels where the voxel is
+// 0.25 and 0.5 where it is 2; a list of another size, or a voxel <= 0, is refused.
+TEST(ReferenceAccuracy, PerPixelVoxels) {
+    RenderBuffer ref = blank(2, 1), test = blank(2, 1);
+    for (std::size_t i = 0; i < 2; ++i) {
+        set_hit(ref, i, 2.0f);
+        set_hit(test, i, 3.0f);
+    }
+    const std::vector<double> voxels{0.25, 2.0};
+    const AccuracyMetrics m = compare(test, ref, std::span<const double>(voxels));
+    EXPECT_DOUBLE_EQ(m.depth_error_max, 4.0);
+    EXPECT_DOUBLE_EQ(m.depth_error_mean, 2.25);
+    const AccuracyMetrics same = compare(test, ref, std::span<const double>(std::vector<double>{2.0, 2.0}));
+    EXPECT_DOUBLE_EQ(same.depth_error_max, compare(test, ref, 2.0).depth_error_max);
+    EXPECT_THROW(compare(test, ref, std::span<const double>(std::vector<double>{1.0})), std::invalid_argument);
+    EXPECT_THROW(compare(test, ref, std::span<const double>(std::vector<double>{1.0, 0.0})), std::invalid_argument);
+}
+
 TEST(ReferenceAccuracy, NearestRankPercentileIsNotTheMaximum) {
     // 200 both-hit pixels with errors 0, 1, ..., 199 voxels (voxel 1; depths 1 + k are exact floats):
     // p99 = v[ceil(0.99 * 200)] = v[198] = 197, max = 199, mean = 99.5.

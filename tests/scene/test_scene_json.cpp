@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <string>
 
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
@@ -84,7 +86,11 @@ TEST(SceneJson, GeneratedScenesAreDeterministicAndRoundTrip) {
     for (auto name : generated_scene_names()) {
         const Scene a = generate_scene(name, 7);
         EXPECT_EQ(format_scene(a), format_scene(generate_scene(name, 7))) << name;
-        if (name != "spheres") {  // the fidelity scene is fixed; the others are drawn from the seed
+        // Fixed by design, the fidelity scene and the atlas's one-shape cases; the others are drawn from the seed.
+        const std::set<std::string_view> fixed = {"spheres",          "stability/grazing_plane", "stability/grazing_cylinder",
+                                                  "stability/blend_tiny", "stability/blend_huge", "stability/ellipsoid",
+                                                  "stability/menger6"};
+        if (!fixed.contains(name)) {
             EXPECT_NE(format_scene(a), format_scene(generate_scene(name, 8))) << name;
         }
         EXPECT_EQ(format_scene(parse_scene(format_scene(a), "x")), format_scene(a)) << name;
