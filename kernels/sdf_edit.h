@@ -189,8 +189,8 @@ inline sdf_real sdf_edit_value(const SdfPrepared* e, __global const float* meshe
     if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, &dx, &dy, &dz);
     const uint prim = e->kind & 0xffu;
     /* A product with 1 is exact: skipping it changes no bit. CPU lanes skip it (three vector products
-     * per edit); with one lane (GPUs) the test is not worth it: an H200 evaluated drops 5% slower
-     * with it than without. */
+     * per edit); with one lane (GPUs) the test costs more than the products: drops' evaluate on an
+     * H200 took 8.32 ms with the test and 8.15 ms without. */
 #if SDF_LANES > 1
     if (e->inv_scale != 1.0f)
 #endif
