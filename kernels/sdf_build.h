@@ -16,11 +16,18 @@
 
 #include "sdf_edit.h"
 
-/* One step of the band-limited fold. */
-inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float field, float3 p, float clamp_c) {
-    const float f = sdf_apply_edit(e, meshes, field, p);
+/* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h). */
+inline sdf_real sdf_fold_at(const SdfPrepared* e, __global const float* meshes, sdf_real field, sdf_real x, sdf_real y,
+                            sdf_real z, float clamp_c) {
+    const sdf_real f = sdf_combine(e, field, sdf_edit_value(e, meshes, x, y, z));
     return fmin(fmax(f, -clamp_c), clamp_c);
 }
+
+#if SDF_LANES == 1
+inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float field, float3 p, float clamp_c) {
+    return sdf_fold_at(e, meshes, field, p.x, p.y, p.z, clamp_c);
+}
+#endif
 
 /* How far the fold saturated at [-S, S] (S > C) may sit from F_C, for smooth edit e whose value at
  * the centre of a cell is v, over points within radius of that centre: k/4 when e's smooth zone can

@@ -33,12 +33,15 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_option("--guard", s.guard, "saturation C = band + guard * largest blend radius (see docs/construction.md)")->capture_default_str();
     chunk_ = cmd->add_option("--chunk", s.chunk, "edits staged per __local chunk (16..256; default: tuned for the device, else 64)");
     group_ = cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation (default: tuned for the device, else 128)");
+    cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation: 1, 2, 4, 8 or 16 (default: "
+                                              "the native float width on CPU devices, else 1; changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
     add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"tolerance", "--tolerance"},
                             {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
                             {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
-                            {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"}});
+                            {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
+                            {"eval_lanes", "--lanes"}});
 }
 
 construct::BuildSettings BuildFlags::resolve() const {
@@ -76,7 +79,7 @@ void MeasureFlags::add_to(CLI::App* cmd, const char* what) {
 nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
-            {"chunk", s.chunk}, {"group", s.eval_group}, {"cull", s.cull}, {"dependencies", s.dependencies},
+            {"chunk", s.chunk}, {"group", s.eval_group}, {"lanes", s.eval_lanes}, {"cull", s.cull}, {"dependencies", s.dependencies},
             {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 

@@ -35,6 +35,9 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
         throw SettingError("eval_group", fmt::format("eval_group {} is larger than the {} work-items per work-group {} "
                                                      "allows", eval_group, device.max_work_group_size, device.name));
+    if (eval_lanes < 0 || eval_lanes > 16 || (eval_lanes & (eval_lanes - 1)) != 0)
+        throw SettingError("eval_lanes", fmt::format("eval_lanes must be 1, 2, 4, 8 or 16 (0 = the device's), got {}",
+                                                     eval_lanes));
     if (!(band_voxels > 0.0) || band_voxels > 64.0)
         throw SettingError("band_voxels", fmt::format("band_voxels must lie in (0, 64], got {}", band_voxels));
     if (!(guard >= 0.0) || guard > 64.0) throw SettingError("guard", fmt::format("guard must lie in [0, 64], got {}", guard));
@@ -46,6 +49,12 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (local > device.local_mem_bytes)
         throw SettingError("chunk", fmt::format("chunk {} needs {} bytes of local memory; {} has {}", chunk, local,
                                                 device.name, device.local_mem_bytes));
+}
+
+int BuildSettings::lanes(const ocl::DeviceInfo& device) const {
+    if (eval_lanes != 0) return eval_lanes;
+    const std::uint32_t w = device.native_float_width;
+    return device.type == "cpu" && w >= 2 && w <= 16 && (w & (w - 1)) == 0 ? static_cast<int>(w) : 1;
 }
 
 double auto_leaf_size(double tolerance, const BrickLayout& layout) {
@@ -102,6 +111,9 @@ double largest_blend(const Geometry& g) {
     for (const Edit& e : g.edits) k = std::max(k, e.blend);
     return k;
 }
+
+// A list entry read with the edit it names.
+constexpr std::uint64_t kEntryBytes = sizeof(cl_uint) + sizeof(SdfEdit);
 
 // Rounds a positive double up to the next float (the margins below must not shrink).
 float float_up(double x) {
@@ -287,6 +299,8 @@ public:
     std::uint64_t assemble_leaves();
     void evaluate_leaves(std::uint64_t leaf_count);
     void report(std::uint64_t leaf_count);
+    void report_flops(std::uint64_t leaf_count);
+    void add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes);
 
     std::size_t parent_count() const { return parent_count_; }
     std::unique_ptr<ocl::Buffer<SdfBrick>> take_leaves() {
@@ -536,10 +550,11 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     out_.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(allocate<SdfBounds>(d_, leaf_count, "the brick AABBs"));
     out_.shifts = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(d_, leaf_count, "the brick shifts"));
     if (leaf_count == 0) return;
-    const std::size_t group = std::min<std::size_t>(s_.eval_group, samples3);
-    const std::size_t per_item = (samples3 + group - 1) / group;
-    const ocl::Program program =
-        ocl::build_program(d_, "brick_evaluate.cl", fmt::format("{} -DPER_ITEM={}", layout.defines(), per_item));
+    const auto lanes = static_cast<std::size_t>(s_.lanes(d_.info()));
+    const std::size_t group = std::min<std::size_t>(s_.eval_group, (samples3 + lanes - 1) / lanes);
+    const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
+    const ocl::Program program = ocl::build_program(
+        d_, "brick_evaluate.cl", fmt::format("{} -DSDF_LANES={} -DPER_ITEM={}", layout.defines(), lanes, per_item));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
@@ -571,12 +586,18 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
             if (leaves.level == r.level) r.leaves = leaves.count;
         r.edit_entries = l < list_entries_.size() ? list_entries_[l] : 0;
         for (const SdfBrick& b : records) r.max_edits = std::max(r.max_edits, b.edit_count);
-        evaluations += prev_entries * (l == 0 ? 1 : plan_.per_parent);  // count: every candidate child of every parent
-        if (s_.cull)
+        const std::uint64_t counted = prev_entries * (l == 0 ? 1 : plan_.per_parent);  // every candidate child of every parent
+        add_work(measure::Stage::count, counted, prev.size() * (sizeof(SdfBrick) + sizeof(cl_uint)) + prev_entries * kEntryBytes);
+        std::uint64_t culled = 0;
+        if (s_.cull) {
             for (const SdfBrick& p : prev)  // cull: each kept child tests its parent's list
-                evaluations += static_cast<std::uint64_t>(p.edit_count) *
-                               (l == 0 ? records.size()
-                                       : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
+                culled += static_cast<std::uint64_t>(p.edit_count) *
+                          (l == 0 ? records.size()
+                                  : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
+            add_work(measure::Stage::cull, culled,
+                     records.size() * sizeof(SdfBrick) + culled * kEntryBytes + r.edit_entries * sizeof(cl_uint));
+        }
+        evaluations += counted + culled;
         r.count_ms = scheduler_.stage_ms(measure::Stage::count, r.level, out_.first_launch);
         r.scan_ms = scheduler_.stage_ms(measure::Stage::scan, r.level, out_.first_launch);
         r.subdivide_ms = scheduler_.stage_ms(measure::Stage::subdivide, r.level, out_.first_launch);
@@ -605,6 +626,7 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
         evaluations += leaf.edit_entries * s_.layout().samples_per_brick();
     }
     out_.edit_evaluations = evaluations;
+    report_flops(leaf_count);
     out_.memory["brick pool"] = out_.pool->bytes();
     out_.memory["brick records"] = brick_bytes_;
     out_.memory["aabbs"] = out_.aabbs->bytes();
@@ -612,6 +634,34 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["edits"] = edits_.bytes();
     if (meshes_.size() > 1) out_.memory["mesh grids"] = meshes_.bytes();  // one float: no mesh
     out_.memory["scratch"] = scratch_bytes_;
+}
+
+// Evaluate's work from the leaves' lists (read back), and the FLOPs of count and cull from the
+// mean FLOPs of a leaf list entry.
+void BrickBuilder::Job::report_flops(std::uint64_t leaf_count) {
+    std::vector<double> flops(edits_host_.size());
+    for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = edit_flops(edits_host_[i]);
+    double entry_flops = 0.0;
+    std::uint64_t entries = 0;
+    if (leaf_count > 0) {
+        const std::vector<cl_uint> lists = parent_lists_->read();
+        for (const SdfBrick& b : leaves().read()) {
+            for (std::uint32_t j = 0; j < b.edit_count; ++j) entry_flops += flops[lists[b.edit_offset + j]];
+            entries += b.edit_count;
+        }
+    }
+    const std::uint64_t samples = s_.layout().samples_per_brick();
+    add_work(measure::Stage::evaluate, entries * samples,
+             leaf_count * (sizeof(SdfBrick) + s_.layout().brick_bytes()) + entries * kEntryBytes);
+    const double mean = entries > 0 ? entry_flops / static_cast<double>(entries) : 0.0;
+    for (auto& [stage, w] : out_.work) w.flop = static_cast<double>(w.evaluations) * mean;
+    out_.work[measure::Stage::evaluate].flop = entry_flops * static_cast<double>(samples);
+}
+
+void BrickBuilder::Job::add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes) {
+    StageWork& w = out_.work[stage];
+    w.evaluations += evaluations;
+    w.bytes += static_cast<double>(bytes);
 }
 
 GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, measure::Scheduler& scheduler,

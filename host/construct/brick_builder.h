@@ -19,6 +19,7 @@
 
 #include "construct/brick_layout.h"
 #include "construct/scan.h"
+#include "construct/work.h"
 #include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
@@ -38,6 +39,9 @@ struct BuildSettings {
     double guard = 2.0;           // C = band + guard * (largest blend radius); see sdf_build.h
     int chunk = 64;               // edits staged per __local chunk (16..256)
     int eval_group = 128;         // work-group size of the leaf evaluation
+    // Samples per SIMD value of the leaf evaluation (1, 2, 4, 8 or 16; changes no bit): 0 = the
+    // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
+    int eval_lanes = 0;
     bool cull = true;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
     // Adaptive leaves (docs/construction.md, "Adaptive leaves"): with tolerance > 0, leaf_size is the
@@ -48,6 +52,7 @@ struct BuildSettings {
 
     bool adaptive() const { return tolerance > 0.0; }
     BrickLayout layout() const { return {samples, format}; }
+    int lanes(const ocl::DeviceInfo& device) const;
     double voxel() const { return leaf_size / layout().interior(); }
     // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
@@ -85,6 +90,9 @@ struct GeometryBuild {
     double edits_per_leaf_mean = 0.0;
     std::uint32_t edits_per_leaf_max = 0;
     std::uint64_t edit_evaluations = 0;  // count + cull + evaluate
+    // FLOPs and bytes of count, cull and evaluate (construct/work.h). Evaluate's FLOPs are exact
+    // (every leaf list entry's edit_flops); count and cull use the mean of the leaf entries.
+    std::map<measure::Stage, StageWork> work;
     std::uint64_t dependency_entries = 0;
     std::map<std::string, std::uint64_t> memory;  // bytes per resource
     // This build's launches in the recorder it was given: [first_launch, end_launch).

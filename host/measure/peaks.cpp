@@ -161,6 +161,17 @@ DevicePeaks measure_peaks(ocl::Device& device) {
     return p;
 }
 
+std::optional<DevicePeaks> cached_peaks(const ocl::DeviceInfo& device) {
+    const std::optional<std::filesystem::path> dir = ocl::program_cache_dir();
+    if (!dir) return std::nullopt;
+    for (DevicePeaks& p : read_cache(*dir / kPeaksFile))
+        if (p.device == device.name && p.driver == device.driver_version) {
+            p.cached = true;
+            return p;
+        }
+    return std::nullopt;
+}
+
 DevicePeaks device_peaks(ocl::Device& device, bool refresh) {
     const std::optional<std::filesystem::path> dir = ocl::program_cache_dir();
     if (!dir) {

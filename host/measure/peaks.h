@@ -4,6 +4,7 @@
 // a few repeats after a warm-up. Work rates of the engine's stages are reported against them.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -30,6 +31,9 @@ DevicePeaks measure_peaks(ocl::Device& device);
 // file is damaged, measures and rewrites the file atomically (a file that cannot be written is left
 // alone: the figures are still returned). With the cache off, measures every time.
 DevicePeaks device_peaks(ocl::Device& device, bool refresh = false);
+
+// The cached peaks of the device, without measuring; none on a miss or with the cache off.
+std::optional<DevicePeaks> cached_peaks(const ocl::DeviceInfo& device);
 
 // {"device", "driver", "bandwidth_gbps", "fma_gflops", "measured_at"}.
 nlohmann::json to_json(const DevicePeaks& peaks);

@@ -32,6 +32,7 @@ GeometryFigures geometry_figures(const construct::GeometryBuild& b, const measur
     g.dependency_entries = b.dependency_entries;
     g.pool_bytes = b.pool ? b.pool->bytes() : 0;
     g.memory = b.memory;
+    g.work = b.work;
     g.device_ms = b.device_ms;
     g.host_ms = b.host_ms;
     if (b.end_launch <= last.size())
@@ -139,6 +140,12 @@ ConstructionFigures construction_figures(const Run& run) {
         c.levels = std::max(c.levels, g.levels);
         c.host_ms += g.host_ms;
         for (const auto& [k, v] : g.memory) c.memory[k] += v;
+        for (const auto& [stage, w] : g.work) {
+            construct::StageWork& sum = c.work[stage];
+            sum.flop += w.flop;
+            sum.bytes += w.bytes;
+            sum.evaluations += w.evaluations;
+        }
         c.geometries.push_back(std::move(g));
     }
     return c;
@@ -164,8 +171,46 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device) {
     f.kernels = measure::kernel_rows(run.captures, device);
     f.digest = run.brick_digest;
     f.list_digest = run.list_digest;
+    for (const auto& [stage, w] : f.construction.work)
+        f.roofline.push_back({stage, measure::stage_median(f.stages, stage), w.flop, w.bytes});
+    f.peaks = measure::cached_peaks(device);
     return f;
 }
+
+namespace {
+
+nlohmann::json roofline_json(const BuildFigures& f) {
+    nlohmann::json stages = nlohmann::json::array();
+    for (const RooflineRow& r : f.roofline) {
+        nlohmann::json j = {{"stage", std::string(to_string(r.stage))}, {"ms", r.ms}, {"flop", r.flop}, {"bytes", r.bytes},
+                            {"gflops", r.gflops()}, {"gbps", r.gbps()},
+                            {"flop_per_byte", r.bytes > 0.0 ? r.flop / r.bytes : 0.0}};
+        if (f.peaks) {
+            j["fma_peak_fraction"] = r.gflops() / f.peaks->fma_gflops;
+            j["bandwidth_fraction"] = r.gbps() / f.peaks->bandwidth_gbps;
+        }
+        stages.push_back(j);
+    }
+    return {{"peaks", f.peaks ? measure::to_json(*f.peaks) : nlohmann::json()}, {"stages", stages}};
+}
+
+// One line per stage: FP32 throughput and compulsory traffic, and their shares of the device's peaks.
+std::string roofline_text(const BuildFigures& f) {
+    std::string s = f.peaks ? fmt::format("  roofline (peaks: {:.1f} GFLOP/s FP32 FMA, {:.1f} GB/s):\n", f.peaks->fma_gflops,
+                                          f.peaks->bandwidth_gbps)
+                            : std::string("  roofline (no cached peaks: run `devices --peaks` for the shares):\n");
+    for (const RooflineRow& r : f.roofline) {
+        s += fmt::format("    {:<9} {:>10.3f} ms  {:>10.4g} GFLOP  {:>9.3f} GFLOP/s", to_string(r.stage), r.ms, r.flop * 1e-9,
+                         r.gflops());
+        if (f.peaks) s += fmt::format(" ({:>5.1f}%)", 100.0 * r.gflops() / f.peaks->fma_gflops);
+        s += fmt::format("  {:>9.4g} GB  {:>8.3f} GB/s", r.bytes * 1e-9, r.gbps());
+        if (f.peaks) s += fmt::format(" ({:>5.2f}%)", 100.0 * r.gbps() / f.peaks->bandwidth_gbps);
+        s += "\n";
+    }
+    return s;
+}
+
+}  // namespace
 
 void add_reference_levels(ConstructionFigures& c, const Scene& scene, const construct::BuildSettings& s) {
     for (std::size_t i = 0; i < c.geometries.size() && i < scene.geometries.size(); ++i) {
@@ -199,7 +244,8 @@ nlohmann::json to_json(const BuildFigures& f) {
             {"edit_evaluations", c.edit_evaluations},
             {"bricks_per_second", f.bricks_per_second()},
             {"edit_evaluations_per_second", f.edit_evaluations_per_second()},
-            {"geometries", geometries}};
+            {"geometries", geometries},
+            {"roofline", roofline_json(f)}};
 }
 
 std::string to_text(const BuildFigures& f, bool kernel_table) {
@@ -215,6 +261,7 @@ std::string to_text(const BuildFigures& f, bool kernel_table) {
                          f.total_ms.median, f.total_ms.min, f.total_ms.max, 100.0 * f.total_ms.cv);
         s += measure::stage_table_text(f.stages, f.identical);
     }
+    if (!f.roofline.empty()) s += roofline_text(f);
     if (kernel_table) s += measure::kernel_table_text(f.kernels);
     s += fmt::format("  digest {} (edit lists {})\n", f.digest, f.list_digest);
     return s;

@@ -17,6 +17,7 @@
 
 #include "cl/device.h"
 #include "construct/brick_builder.h"
+#include "measure/peaks.h"
 #include "measure/statistics.h"
 #include "pipeline/run.h"
 #include "render/pictures.h"
@@ -42,6 +43,7 @@ struct GeometryFigures {
     std::uint64_t edit_evaluations = 0, dependency_entries = 0;
     std::uint64_t pool_bytes = 0;
     Memory memory;
+    std::map<measure::Stage, construct::StageWork> work;
     double device_ms = 0.0, host_ms = 0.0;
     measure::Capture launches;  // this geometry's launches in the last capture
 };
@@ -55,10 +57,19 @@ struct ConstructionFigures {
     int levels = 0;  // the deepest geometry's
     double host_ms = 0.0;
     Memory memory;
+    std::map<measure::Stage, construct::StageWork> work;  // summed over the geometries
 
     double edits_per_leaf_mean() const;
 };
 ConstructionFigures construction_figures(const Run& run);
+
+// One stage on the roofline: its work (construct/work.h) over its median device time.
+struct RooflineRow {
+    measure::Stage stage{};
+    double ms = 0.0, flop = 0.0, bytes = 0.0;
+    double gflops() const { return ms > 0.0 ? flop / (ms * 1e6) : 0.0; }
+    double gbps() const { return ms > 0.0 ? bytes / (ms * 1e6) : 0.0; }
+};
 
 // `sdfbrick build` on one device: a construction run with brick digests.
 struct BuildFigures {
@@ -69,6 +80,8 @@ struct BuildFigures {
     bool identical = true;  // every capture gave the same bricks, pools and edit lists
     std::vector<measure::KernelRow> kernels;
     std::string digest, list_digest;  // bricks and pools; edit lists
+    std::vector<RooflineRow> roofline;        // count, cull, evaluate
+    std::optional<measure::DevicePeaks> peaks;  // the device's cached peaks (`devices --peaks`), if any
 
     double bricks_per_second() const;
     double edit_evaluations_per_second() const;
@@ -79,7 +92,7 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device);
 void add_reference_levels(ConstructionFigures& c, const Scene& scene, const construct::BuildSettings& s);
 // {"bricks", "digest", "list_digest", "stages", "device_ms", "host_ms", "total_ms", "captures",
 //  "kernels", "memory", "edits_per_leaf", "edit_evaluations", "bricks_per_second",
-//  "edit_evaluations_per_second", "geometries"} (docs/measurement.md)
+//  "edit_evaluations_per_second", "geometries", "roofline"} (docs/measurement.md)
 nlohmann::json to_json(const BuildFigures& f);
 // Per geometry its level table and memory, then the stages, repeat statistics, the kernel table
 // (with kernel_table) and the digests; lines indented for a device's section.

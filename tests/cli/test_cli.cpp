@@ -89,6 +89,19 @@ TEST(Cli, BuildReportsBricksDigestStagesMemory) {
     std::set<std::string> stages;
     for (const auto& st : j["stages"]) stages.insert(st["name"].get<std::string>());
     for (const char* s : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"}) EXPECT_TRUE(stages.count(s)) << s;
+    std::set<std::string> roofline;  // FLOPs and bytes over each stage's median time
+    for (const auto& st : j["devices"][0]["roofline"]["stages"]) {
+        roofline.insert(st["stage"].get<std::string>());
+        EXPECT_GT(st["flop"].get<double>(), 0.0) << st;
+        EXPECT_NEAR(st["gflops"].get<double>(), st["flop"].get<double>() / (st["ms"].get<double>() * 1e6),
+                    1e-9 * st["gflops"].get<double>()) << st;
+    }
+    EXPECT_EQ(roofline, (std::set<std::string>{"count", "cull", "evaluate"}));
+    EXPECT_NE(r.out.find("roofline"), std::string::npos) << r.out;
+    const CliRun lanes = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.125 --lanes 1 --json " +
+                                  (dir / "lanes.json").string(), env);
+    ASSERT_EQ(lanes.status, 0) << lanes.err;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir / "lanes.json"))["digest"], j["digest"]);
     const CliRun off = sdfbrick("build " + scene_path("spheres") + " --brick-size 0.125 --no-cull --json " +
                                 (dir / "off.json").string(), env);
     ASSERT_EQ(off.status, 0) << off.err;

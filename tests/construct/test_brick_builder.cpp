@@ -215,6 +215,22 @@ TEST(ConstructBuild, ChunkAndGroupSizesDoNotChangeTheOutput) {
     }
 }
 
+// The evaluation's SIMD lanes (sdf_edit.h) give every sample the float path's bits: every primitive
+// and combine rule, in each format, with 8^3 and 10^3 samples (1000 is no multiple of 16: the last
+// value's lanes past the brick are dropped), one and many work-items.
+TEST(ConstructBuild, LanesDoNotChangeTheOutput) {
+    const Geometry g = mixed_geometry();
+    for (BuildSettings s : {settings(0.125), settings(0.125, BrickFormat::int16, 10), settings(0.25, BrickFormat::float32)}) {
+        s.eval_lanes = 1;
+        const std::string expected = digest(g, s);
+        for (auto [lanes, group] : {std::pair{4, 64}, {8, 1}, {8, 64}, {16, 16}}) {
+            s.eval_lanes = lanes;
+            s.eval_group = group;
+            EXPECT_EQ(digest(g, s), expected) << "lanes " << lanes << ", group " << group << ", samples " << s.samples;
+        }
+    }
+}
+
 // Construction follows the surface at every level: each level keeps at most 4x the reference's
 // surface cells of that level (a level kept dense would keep its whole volume), including the coarse
 // levels whose threshold reaches C, on hard CSG with little volume and on chains of smooth blends.
@@ -252,6 +268,14 @@ TEST(ConstructBuild, LevelsAndWorkAreReported) {
     EXPECT_GT(b.edit_evaluations, b.leaf_count * 512);
     for (const char* r : {"brick pool", "brick records", "aabbs", "edit lists"}) EXPECT_GT(b.memory.at(r), 0u) << r;
     EXPECT_EQ(b.memory.at("brick pool"), b.leaf_count * 512);
+    // The roofline's work: drops are smooth unit-scale spheres, 20 FLOPs an evaluation (work.h).
+    const construct::StageWork& evaluate = b.work.at(measure::Stage::evaluate);
+    EXPECT_EQ(evaluate.evaluations, b.level_reports.back().edit_entries * 512);
+    EXPECT_EQ(evaluate.flop, 20.0 * static_cast<double>(evaluate.evaluations));
+    EXPECT_GT(evaluate.bytes, static_cast<double>(b.memory.at("brick pool")));
+    EXPECT_EQ(b.work.at(measure::Stage::count).evaluations + b.work.at(measure::Stage::cull).evaluations +
+                  evaluate.evaluations,
+              b.edit_evaluations);
     EXPECT_EQ(b.first_launch, 0u);
     EXPECT_EQ(b.end_launch, scheduler.size());
     for (const char* stage : {"count", "scan", "subdivide", "cull", "evaluate", "aabb"})
@@ -338,6 +362,9 @@ TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
     s = settings(0.125);
     s.eval_group = 96;
     EXPECT_EQ(refused(s), "eval_group");
+    s = settings(0.125);
+    s.eval_lanes = 3;
+    EXPECT_EQ(refused(s), "eval_lanes");
     s = settings(0.125);
     s.band_voxels = 0.0;
     EXPECT_EQ(refused(s), "band_voxels");

@@ -106,7 +106,7 @@ TEST(ConstructMeshEdit, MixedSceneFollowsTheBruteForceReference) {
     EXPECT_EQ(over, 0u) << "of " << checked << " samples beyond the grid and quantisation bound; worst " << worst;
 }
 
-TEST(ConstructMeshEdit, CullingOnAndOffAndRepeatsAreBitIdentical) {
+TEST(ConstructMeshEdit, CullingLanesAndRepeatsAreBitIdentical) {
     const Scene scene = load_scene(write_mixed_scene("mesh_cull"));
     construct::BrickBuilder builder(test::device());
     construct::BuildSettings on = settings(0.125), off = on;
@@ -116,6 +116,11 @@ TEST(ConstructMeshEdit, CullingOnAndOffAndRepeatsAreBitIdentical) {
     const std::string c = construct::output_digest(builder.build(scene.geometries[0], on, test::recorder()), on);
     EXPECT_EQ(a, b);
     EXPECT_EQ(a, c);
+    for (const int lanes : {1, 8}) {  // the mesh lookup lane by lane, and the float path
+        construct::BuildSettings s = on;
+        s.eval_lanes = lanes;
+        EXPECT_EQ(construct::output_digest(builder.build(scene.geometries[0], s, test::recorder()), s), a) << lanes;
+    }
 }
 
 // Adaptive leaves check coarse bricks against the field (brick_check): with mesh edits too.

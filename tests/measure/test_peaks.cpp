@@ -77,6 +77,9 @@ TEST(MeasurePeaks, CachedValuesAreReturnedWithoutMeasuring) {
     EXPECT_EQ(p.bandwidth_gbps, 12345.5);
     EXPECT_EQ(p.fma_gflops, 67890.25);
     EXPECT_EQ(p.measured_at, "2000-01-01T00:00:00.000Z");
+    const std::optional<DevicePeaks> looked_up = cached_peaks(test::device().info());  // never measures
+    ASSERT_TRUE(looked_up.has_value());
+    EXPECT_EQ(looked_up->fma_gflops, 67890.25);
 
     // refresh measures again, replaces this device's entry and keeps the other device's.
     const DevicePeaks fresh = device_peaks(test::device(), true);
@@ -109,6 +112,7 @@ TEST(MeasurePeaks, CacheOffMeasuresEachTime) {
     const DevicePeaks p = device_peaks(test::device());
     expect_plausible(p);
     EXPECT_FALSE(p.cached);
+    EXPECT_FALSE(cached_peaks(test::device().info()).has_value());
 }
 
 TEST(MeasurePeaks, DevicesCommandShowsCachedPeaks) {
