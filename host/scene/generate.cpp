@@ -285,8 +285,8 @@ Scene sculpt(Rng& rng) {
 
 // ---- the stability atlas's hard cases (docs/stability.md) ----
 // Sizes are chosen against the voxel the atlas and its tests build with: bricks of 0.125 (voxel
-// 0.0208; 0.25 for the 65,536 edits in the tests). Lattice coordinates (multiples of 0.25) lie on brick faces at
-// both: a domain's origin is on the leaf lattice (construct/domain.h).
+// 0.0208; 0.5 for the 65,536 edits). Lattice coordinates (multiples of 0.25) lie on brick faces for
+// any brick size dividing 0.25: a domain's origin is on the leaf lattice (construct/domain.h).
 
 Camera look_at(glm::dvec3 eye, glm::dvec3 target, double fov_deg) {
     Camera c;

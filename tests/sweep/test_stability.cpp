@@ -3,6 +3,7 @@
 // thresholds where docs/stability.md's test table says it is stable, and to fail where it says it fails.
 #include <algorithm>
 #include <map>
+#include <ostream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -46,6 +47,9 @@ struct CaseExpectation {
     double brick_size;
     std::map<std::string, std::string> failures;  // method -> failures joined by ","
 };
+
+// Test names and failure messages show the case's name, not the struct's bytes.
+void PrintTo(const CaseExpectation& e, std::ostream* os) { *os << e.name; }
 
 std::string joined(const std::vector<std::string>& v) {
     std::string s;
