@@ -177,18 +177,14 @@ DevicePeaks device_peaks(ocl::Device& device, bool refresh) {
     if (!dir) {
         return measure_peaks(device);
     }
+    if (!refresh) {
+        if (std::optional<DevicePeaks> cached = cached_peaks(device.info())) return *cached;
+    }
     const std::filesystem::path file = *dir / kPeaksFile;
     std::vector<DevicePeaks> entries = read_cache(file);
     const auto same_device = [&](const DevicePeaks& p) {
         return p.device == device.info().name && p.driver == device.info().driver_version;
     };
-    if (!refresh) {
-        if (const auto it = std::find_if(entries.begin(), entries.end(), same_device); it != entries.end()) {
-            DevicePeaks cached = *it;
-            cached.cached = true;
-            return cached;
-        }
-    }
     const DevicePeaks measured = measure_peaks(device);
     std::erase_if(entries, same_device);
     entries.push_back(measured);
