@@ -178,6 +178,11 @@ struct HostBuild {
     std::vector<cl_uint> lists;
     std::vector<std::uint8_t> pool;
     std::vector<SdfBounds> aabbs;
+
+    std::uint64_t bytes() const {
+        return sizeof(SdfBrick) * leaves.size() + sizeof(cl_uint) * lists.size() + pool.size() +
+               sizeof(SdfBounds) * aabbs.size();
+    }
 };
 
 // One device in the run: its builders (made on first use, so that a failing program build is its
@@ -604,9 +609,7 @@ render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vecto
                                 const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
     try {
         std::uint64_t bytes = 0;
-        for (const HostBuild& h : merged)
-            bytes += sizeof(SdfBrick) * h.leaves.size() + sizeof(cl_uint) * (h.lists.size() + h.leaves.size()) +
-                     h.pool.size() + sizeof(SdfBounds) * h.aabbs.size();
+        for (const HostBuild& h : merged) bytes += h.bytes() + sizeof(cl_uint) * h.leaves.size();  // + the shifts
         render::SceneBricks b = lane.copy(bytes, [&] { return upload_scene(merged, settings, *lane.device); });
         render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
         return b;
