@@ -8,7 +8,7 @@
  *                because leaves are disjoint cells);
  *   brick_place: each leaf to its position, its edit_offset moved by its level's list base (the
  *                levels' lists are concatenated too). */
-#include "sdf_types.h"
+#include "sdf_morton.h"
 
 __kernel void brick_split(__global const SdfBrick* bricks, uint count, __global const uint* passed,
                           __global const uint* leaf_offsets, __global SdfBrick* leaves, __global SdfBrick* parents) {
@@ -19,30 +19,18 @@ __kernel void brick_split(__global const SdfBrick* bricks, uint count, __global 
     else parents[i - before] = bricks[i];
 }
 
-/* Morton code, at the finest level, of the brick's low corner (21 bits per axis: bit j of x is bit
- * 3j, of y 3j+1, of z 3j+2, as inside a parent). */
-inline ulong order_key(SdfBrick b, uint finest, uint log2b) {
-    const uint shift = (finest - b.level) * log2b;
-    ulong key = 0ul;
-    for (uint a = 0; a < 3u; ++a) {
-        const ulong c = (ulong)(uint)b.coord[a] << shift;
-        for (uint j = 0; j < 21u; ++j) key |= ((c >> j) & 1ul) << (3u * j + a);
-    }
-    return key;
-}
-
 __kernel void brick_rank(__global const SdfBrick* leaves, __global const uint* level_first, uint level_count,
                          uint total, uint finest, uint log2b, __global uint* positions) {
     const uint i = get_global_id(0);
     if (i >= total) return;
-    const ulong key = order_key(leaves[i], finest, log2b);
+    const ulong key = sdf_brick_key(leaves[i], finest, log2b);
     uint position = 0u;
     for (uint m = 0; m < level_count; ++m) {
         uint lo = level_first[m], hi = level_first[m + 1u];
         const uint first = lo;
         while (lo < hi) {
             const uint mid = lo + ((hi - lo) >> 1);
-            if (order_key(leaves[mid], finest, log2b) < key) lo = mid + 1u; else hi = mid;
+            if (sdf_brick_key(leaves[mid], finest, log2b) < key) lo = mid + 1u; else hi = mid;
         }
         position += lo - first;
     }

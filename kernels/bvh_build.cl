@@ -15,31 +15,12 @@
  *                      counts, it never orders a result.
  * Node i's children: child[c] >= 0 is internal node child[c] (+ node_offset in the shared array),
  * child[c] < 0 is leaf ~child[c]. */
-#include "sdf_types.h"
+#include "sdf_morton.h"
 
 #define NO_PARENT 0xFFFFFFFFu
 
-/* Spreads the low 21 bits of v two bits apart (bit i -> bit 3i). */
-inline ulong bvh_spread21(uint v) {
-    ulong x = (ulong)(v & 0x1FFFFFu);
-    x = (x | (x << 32)) & 0x1F00000000FFFFUL;
-    x = (x | (x << 16)) & 0x1F0000FF0000FFUL;
-    x = (x | (x << 8)) & 0x100F00F00F00F00FUL;
-    x = (x | (x << 4)) & 0x10C30C30C30C30C3UL;
-    x = (x | (x << 2)) & 0x1249249249249249UL;
-    return x;
-}
-
 #define BVH_FLAG_UNSORTED 1u
 #define BVH_FLAG_TOO_LARGE 2u
-
-/* A leaf of a coarser level than the finest (adaptive builds) is keyed by its low corner on the
- * finest lattice: coordinate << ((finest - level) * log2b). */
-inline ulong bvh_brick_key(__global const SdfBrick* b, uint finest, uint log2b) {
-    const uint shift = (finest - b->level) * log2b;
-    return bvh_spread21((uint)b->coord[0] << shift) | (bvh_spread21((uint)b->coord[1] << shift) << 1) |
-           (bvh_spread21((uint)b->coord[2] << shift) << 2);
-}
 
 /* flags: BVH_FLAG_UNSORTED when a key is not above the previous one, BVH_FLAG_TOO_LARGE when a
  * coordinate needs more than 21 bits (atomic_or sets flags: the result does not depend on order). */
@@ -47,12 +28,12 @@ __kernel void bvh_morton_bricks(__global const SdfBrick* bricks, uint n, uint fi
                                 __global uint* flags) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const ulong key = bvh_brick_key(bricks + i, finest, log2b);
+    const ulong key = sdf_brick_key(bricks[i], finest, log2b);
     keys[i] = key;
     const uint shift = (finest - bricks[i].level) * log2b;
     if ((uint)(bricks[i].coord[0] | bricks[i].coord[1] | bricks[i].coord[2]) >= (1u << (21u - shift)))
         atomic_or(flags, BVH_FLAG_TOO_LARGE);
-    if (i > 0 && bvh_brick_key(bricks + i - 1, finest, log2b) >= key) atomic_or(flags, BVH_FLAG_UNSORTED);
+    if (i > 0 && sdf_brick_key(bricks[i - 1], finest, log2b) >= key) atomic_or(flags, BVH_FLAG_UNSORTED);
 }
 
 /* Length of the common prefix of keys i and j; -1 when j is outside [0, n). */
