@@ -1,63 +1,111 @@
-/* brick_evaluate.cl: stage "evaluate". One work-group per leaf brick; its S^3 samples are spread over
- * the work-items (PER_ITEM values of sdf_real each, SDF_LANES samples per value, held in private
- * memory). The brick's edits are staged through __local memory in chunks of chunk_size: load,
- * barrier, every work-item folds the chunk into its samples, barrier, next chunk. Samples are written
- * to the brick pool clamped to +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm,
- * 2 = float32.
+/* brick_evaluate.cl: stage "evaluate". One work-group per leaf brick evaluates the brick's owned
+ * samples (owned_regions[brick]: its interior and the apron regions no neighbour evaluates; see
+ * sdf_apron.h; brick_apron.cl copies the rest). They are spread over the work-items (up to PER_ITEM
+ * values of sdf_real each, SDF_LANES samples per value, held in private memory). The brick's edits
+ * are staged through __local memory in chunks of chunk_size: load, barrier, every work-item folds the
+ * chunk into its samples, barrier, next chunk. Samples are written to the brick pool clamped to
+ * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
  * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT.
- * Lane l of value s of work-item lid holds sample (s * local size + lid) * lanes + l (with one lane,
- * consecutive work-items hold consecutive samples); samples past S^3 - 1 repeat the last one and are
- * not stored.
+ * Lane l of value s of work-item lid holds owned sample (s * local size + lid) * lanes + l (with one
+ * lane, consecutive work-items hold consecutive samples); a value whose first lane is past the last
+ * owned sample is not evaluated, and lanes past it repeat the last one and are not stored.
  * Sample (i, j, k) of the brick at coord lies at origin + ((coord * (S - 2 APRON) + (i, j, k) - APRON)
  * + 0.5) * voxel: voxel centres, APRON of them outside the brick on every side. voxel, band and the
  * quantisation scale are the finest level's; a brick of a coarser level (adaptive builds) scales them
  * by its power of two, exactly, and folds with its level's saturation level_clamp[level]. */
+#include "sdf_apron.h"
 #include "sdf_build.h"
-
-#define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
-#define INTERIOR (SAMPLES - 2 * APRON)
-
 #include "sdf_format.h"
 
 #if SDF_LANES == 1
 typedef int sdf_index;
-#define SDF_LANE_OFFSETS 0
 #define SDF_CONVERT_REAL convert_float
 #else
 typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
 #define SDF_CONVERT_REAL SDF_REAL_CAT(convert_float, SDF_LANES)
-#if SDF_LANES == 2
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1))
-#elif SDF_LANES == 4
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3))
-#elif SDF_LANES == 8
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7))
-#else
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
-#endif
 #endif
 
-/* Stores the samples of one value whose first lane is sample idx (lanes past the last sample are
- * dropped). */
-inline void store_samples(__global sample_t* out, uint idx, sdf_real field, float band, float quant_scale) {
+/* The samples of the value whose first lane is owned sample c: lane l holds owned sample
+ * min(c + l, owned - 1) (order: apron_owned_order); (i, j, k) in the brick. */
+inline void value_samples(uint c, uint owned, __local const ushort* order, sdf_index* i, sdf_index* j, sdf_index* k) {
+#if SDF_LANES == 1
+    const int3 q = apron_sample(order[min(c, owned - 1u)]);
+    *i = q.x;
+    *j = q.y;
+    *k = q.z;
+#else
+    int qi[SDF_LANES], qj[SDF_LANES], qk[SDF_LANES];
+    for (uint l = 0; l < SDF_LANES; ++l) {
+        const int3 q = apron_sample(order[min(c + l, owned - 1u)]);
+        qi[l] = q.x;
+        qj[l] = q.y;
+        qk[l] = q.z;
+    }
+    *i = SDF_REAL_CAT(vload, SDF_LANES)(0, qi);
+    *j = SDF_REAL_CAT(vload, SDF_LANES)(0, qj);
+    *k = SDF_REAL_CAT(vload, SDF_LANES)(0, qk);
+#endif
+}
+
+/* Stores the value whose first lane is owned sample c (lanes past the last owned sample are dropped). */
+inline void store_samples(__global sample_t* out, uint c, uint owned, __local const ushort* order, sdf_real field,
+                          float band, float quant_scale) {
     const sdf_real d = fmin(fmax(field, -band), band);
 #if FORMAT == 2
     const sdf_real q = d;
 #else
     const sdf_real q = rint(d * quant_scale);
 #endif
-#if SDF_LANES == 1
-    if (idx < SAMPLE_COUNT) out[idx] = (sample_t)q;
-#else
     float lanes[SDF_LANES];
+#if SDF_LANES == 1
+    lanes[0] = q;
+#else
     SDF_REAL_CAT(vstore, SDF_LANES)(q, 0, lanes);
-    for (uint l = 0; l < SDF_LANES && idx + l < SAMPLE_COUNT; ++l) out[idx + l] = (sample_t)lanes[l];
+#endif
+    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[order[c + l]] = (sample_t)lanes[l];
+}
+
+/* Folds edit e into this work-item's first active values. The primitive and operation are branched on once per
+ * edit, outside the loop over the values (EVAL_HOIST 2; 1: the primitive only; 0: once per value). */
+#ifndef EVAL_HOIST
+#define EVAL_HOIST 2
+#endif
+#define FOLD_VALUES(PRIM, OP)                                                                              \
+    for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
+        if (s < active) field[s] = sdf_fold_of(e, PRIM, OP, meshes, field[s], px[s], py[s], pz[s], clamp_c)
+#if EVAL_HOIST == 2
+#define FOLD_PRIM(PRIM)                                                                                    \
+    switch (op) {                                                                                          \
+        case SDF_OP_ADD: FOLD_VALUES(PRIM, SDF_OP_ADD); break;                                             \
+        case SDF_OP_SUBTRACT: FOLD_VALUES(PRIM, SDF_OP_SUBTRACT); break;                                   \
+        default: FOLD_VALUES(PRIM, op); break;                                                             \
+    }
+#else
+#define FOLD_PRIM(PRIM) FOLD_VALUES(PRIM, op)
+#endif
+inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
+                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active) {
+    const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
+#if EVAL_HOIST == 0
+    FOLD_VALUES(prim, op);
+#else
+    switch (prim) {
+        case SDF_PRIM_SPHERE: FOLD_PRIM(SDF_PRIM_SPHERE); break;
+        case SDF_PRIM_BOX: FOLD_PRIM(SDF_PRIM_BOX); break;
+        case SDF_PRIM_ROUND_BOX: FOLD_PRIM(SDF_PRIM_ROUND_BOX); break;
+        case SDF_PRIM_TORUS: FOLD_PRIM(SDF_PRIM_TORUS); break;
+        case SDF_PRIM_CAPSULE: FOLD_PRIM(SDF_PRIM_CAPSULE); break;
+        case SDF_PRIM_CYLINDER: FOLD_PRIM(SDF_PRIM_CYLINDER); break;
+        case SDF_PRIM_CONE: FOLD_PRIM(SDF_PRIM_CONE); break;
+        case SDF_PRIM_ELLIPSOID: FOLD_PRIM(SDF_PRIM_ELLIPSOID); break;
+        default: FOLD_VALUES(prim, op); break; /* Menger, mesh: long enough that the switch costs nothing */
+    }
 #endif
 }
 
 __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
-                             __global const SdfBrick* bricks,
+                             __global const SdfBrick* bricks, __global const uint* owned_regions,
                              float origin_x, float origin_y, float origin_z, float finest_voxel,
                              __global const float* level_clamp, float finest_band, float finest_quant_scale,
                              uint finest, uint log2b,
@@ -65,16 +113,23 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
+    const uint mask = owned_regions[brick], owned = apron_owned_count(mask);
+    __local uint offsets[27];
+    __local ushort order[SAMPLE_COUNT];
+    apron_owned_order(mask, offsets, order);
+    const uint span = wg * SDF_LANES; /* owned samples per value slot of the work-group */
+    const uint active = lid * SDF_LANES < owned ? min((uint)PER_ITEM, (owned - lid * SDF_LANES + span - 1u) / span) : 0u;
     const int shift = (int)((finest - b.level) * log2b);
     const float voxel = ldexp(finest_voxel, shift), band = ldexp(finest_band, shift);
     const float quant_scale = ldexp(finest_quant_scale, -shift), clamp_c = level_clamp[b.level];
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
     sdf_real px[PER_ITEM], py[PER_ITEM], pz[PER_ITEM], field[PER_ITEM];
     for (uint s = 0; s < PER_ITEM; ++s) {
-        const sdf_index idx = min((sdf_index)((s * wg + lid) * SDF_LANES) + SDF_LANE_OFFSETS, SAMPLE_COUNT - 1);
-        px[s] = origin_x + (SDF_CONVERT_REAL(first.x + idx % SAMPLES) + 0.5f) * voxel;
-        py[s] = origin_y + (SDF_CONVERT_REAL(first.y + (idx / SAMPLES) % SAMPLES) + 0.5f) * voxel;
-        pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + idx / (SAMPLES * SAMPLES)) + 0.5f) * voxel;
+        sdf_index i, j, k;
+        value_samples((s * wg + lid) * SDF_LANES, owned, order, &i, &j, &k);
+        px[s] = origin_x + (SDF_CONVERT_REAL(first.x + i) + 0.5f) * voxel;
+        py[s] = origin_y + (SDF_CONVERT_REAL(first.y + j) + 0.5f) * voxel;
+        pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + k) + 0.5f) * voxel;
         field[s] = clamp_c;
     }
     for (uint base = 0; base < b.edit_count; base += chunk_size) {
@@ -84,9 +139,10 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
             const SdfPrepared e = chunk[j];
-            for (uint s = 0; s < PER_ITEM; ++s) field[s] = sdf_fold_at(&e, meshes, field[s], px[s], py[s], pz[s], clamp_c);
+            fold_values(&e, meshes, field, px, py, pz, clamp_c, active);
         }
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;
-    for (uint s = 0; s < PER_ITEM; ++s) store_samples(out, (s * wg + lid) * SDF_LANES, field[s], band, quant_scale);
+    for (uint s = 0; s < active; ++s)
+        store_samples(out, (s * wg + lid) * SDF_LANES, owned, order, field[s], band, quant_scale);
 }

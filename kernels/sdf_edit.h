@@ -183,11 +183,13 @@ inline SdfPrepared sdf_prepare(SdfEdit e) {
     return r;
 }
 
-/* Value of one prepared edit at (x, y, z) (geometry frame); meshes is the mesh pool (sdf_types.h). */
-inline sdf_real sdf_edit_value(const SdfPrepared* e, __global const float* meshes, sdf_real x, sdf_real y, sdf_real z) {
+/* Value of one prepared edit at (x, y, z) (geometry frame) whose primitive is prim (= e->kind & 0xff:
+ * a caller that has branched on the primitive passes it as a constant, and the switch folds away);
+ * meshes is the mesh pool (sdf_types.h). */
+inline sdf_real sdf_edit_value_of(const SdfPrepared* e, uint prim, __global const float* meshes, sdf_real x, sdf_real y,
+                                  sdf_real z) {
     sdf_real dx = x - e->t[0], dy = y - e->t[1], dz = z - e->t[2];
     if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, &dx, &dy, &dz);
-    const uint prim = e->kind & 0xffu;
     /* A product with 1 is exact: skipping it changes no bit. CPU lanes skip it (three vector products
      * per edit); with one lane (GPUs) the test costs more than the products: drops' evaluate on an
      * H200 took 8.32 ms with the test and 8.15 ms without. */
@@ -207,6 +209,11 @@ inline sdf_real sdf_edit_value(const SdfPrepared* e, __global const float* meshe
     return v * e->out_scale;
 }
 
+/* Value of one prepared edit at (x, y, z). */
+inline sdf_real sdf_edit_value(const SdfPrepared* e, __global const float* meshes, sdf_real x, sdf_real y, sdf_real z) {
+    return sdf_edit_value_of(e, e->kind & 0xffu, meshes, x, y, z);
+}
+
 /* Compact-support quadratic smooth minimum / maximum: exactly min / max when |a - b| >= k
  * (then w = 0 and the smooth term is 0 * 0 * q = 0). */
 inline sdf_real sdf_smooth_min(sdf_real a, sdf_real b, float k, float q) {
@@ -218,15 +225,21 @@ inline sdf_real sdf_smooth_max(sdf_real a, sdf_real b, float k, float q) {
     return fmax(a, b) + w * w * q;
 }
 
-/* Combine the field so far with one prepared edit's value v. */
-inline sdf_real sdf_combine(const SdfPrepared* e, sdf_real field, sdf_real v) {
+/* Combine the field so far with one prepared edit's value v, the edit's operation being op (= its
+ * kind >> 8 & 0xff; a constant folds the switch away as in sdf_edit_value_of). */
+inline sdf_real sdf_combine_of(const SdfPrepared* e, uint op, sdf_real field, sdf_real v) {
     const int smooth = e->blend > 0.0f;
-    switch ((e->kind >> 8) & 0xffu) {
+    switch (op) {
         case SDF_OP_ADD: return smooth ? sdf_smooth_min(field, v, e->blend, e->blend_q) : fmin(field, v);
         case SDF_OP_SUBTRACT: return smooth ? sdf_smooth_max(field, -v, e->blend, e->blend_q) : fmax(field, -v);
         case SDF_OP_INTERSECT: return smooth ? sdf_smooth_max(field, v, e->blend, e->blend_q) : fmax(field, v);
         default: return field;
     }
+}
+
+/* Combine the field so far with one prepared edit's value v. */
+inline sdf_real sdf_combine(const SdfPrepared* e, sdf_real field, sdf_real v) {
+    return sdf_combine_of(e, (e->kind >> 8) & 0xffu, field, v);
 }
 
 #if SDF_LANES == 1

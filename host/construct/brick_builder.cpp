@@ -88,6 +88,7 @@ BrickBuilder::~BrickBuilder() = default;
 namespace {
 
 constexpr std::size_t kGroup1d = 64;
+constexpr cl_uint kAllApronRegions = 0x7FFFFFFu;  // every region of a brick's samples (kernels/sdf_apron.h)
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 
@@ -298,6 +299,12 @@ public:
     // in one buffer. Returns the leaf count.
     std::uint64_t assemble_leaves();
     void evaluate_leaves(std::uint64_t leaf_count);
+    struct ApronSharing {
+        ocl::Buffer<cl_ulong> keys;             // every leaf's Morton key (empty when sharing is off)
+        std::optional<ocl::Program> program;   // brick_apron.cl, when sharing is on
+        std::optional<ocl::Kernel> copy;
+    };
+    ApronSharing share_aprons(std::uint64_t leaf_count);
     void report(std::uint64_t leaf_count);
     void report_flops(std::uint64_t leaf_count);
     void add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes);
@@ -345,6 +352,7 @@ private:
     SdfBrick pseudo_{};  // level -1: one parent whose single child (branching 1) is the root
     std::unique_ptr<ocl::Buffer<SdfBrick>> parents_;  // the current level's parents, then its bricks
     std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
+    std::unique_ptr<ocl::Buffer<cl_uint>> owned_;  // per leaf: the sample regions it evaluates (kernels/sdf_apron.h)
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
     std::vector<std::uint64_t> list_entries_;                            // every level's list entries
@@ -559,14 +567,43 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
-    ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), origin_.x, origin_.y, origin_.z,
+    const ApronSharing apron = share_aprons(leaf_count);
+    ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), *owned_, origin_.x, origin_.y, origin_.z,
                   static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
                   plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
     scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
+    if (apron.copy) {
+        ocl::set_args(apron.copy->get(), leaves(), apron.keys, *owned_, static_cast<cl_uint>(leaf_count), finest,
+                      plan_.log2b, *out_.pool);
+        scheduler_.launch(measure::Stage::apron, leaf_level, apron.copy->get(), round_up(leaf_count * 32, kGroup1d), kGroup1d);
+    }
     ocl::set_args(b_.programs_->aabb_k.get(), leaves(), static_cast<cl_uint>(leaf_count), origin_.x, origin_.y,
                   origin_.z, out_.leaf_size, finest, plan_.log2b, *out_.aabbs, *out_.shifts);
     scheduler_.launch(measure::Stage::aabb, leaf_level, b_.programs_->aabb_k.get(), round_up(leaf_count, kGroup1d),
                       kGroup1d);
+}
+
+// Which regions of its samples each leaf evaluates (owned_): with sharing on, its interior and the
+// apron regions whose neighbour of the same level is not a leaf (brick_keys, brick_owned); else all.
+// Returns the keys and the copy kernel that brick_apron.cl runs after the evaluation.
+BrickBuilder::Job::ApronSharing BrickBuilder::Job::share_aprons(std::uint64_t leaf_count) {
+    owned_ = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(d_, leaf_count, "the apron masks"));
+    ApronSharing a{ocl::Buffer<cl_ulong>(d_, s_.share_aprons ? leaf_count : 0), std::nullopt, std::nullopt};
+    scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, owned_->bytes() + a.keys.bytes());
+    if (!s_.share_aprons) {
+        owned_->write(std::vector<cl_uint>(leaf_count, kAllApronRegions));
+        return a;
+    }
+    a.program.emplace(ocl::build_program(d_, "brick_apron.cl", s_.layout().defines()));
+    const ocl::Kernel keys = ocl::make_kernel(*a.program, "brick_keys"), owned = ocl::make_kernel(*a.program, "brick_owned");
+    const auto count = static_cast<cl_uint>(leaf_count), finest = static_cast<cl_uint>(plan_.finest());
+    const int leaf_level = plan_.domain.levels - 1;
+    ocl::set_args(keys.get(), leaves(), count, finest, plan_.log2b, a.keys);
+    scheduler_.launch(measure::Stage::apron, leaf_level, keys.get(), round_up(leaf_count, kGroup1d), kGroup1d);
+    ocl::set_args(owned.get(), leaves(), a.keys, count, finest, plan_.log2b, *owned_);
+    scheduler_.launch(measure::Stage::apron, leaf_level, owned.get(), round_up(leaf_count, kGroup1d), kGroup1d);
+    a.copy.emplace(ocl::make_kernel(*a.program, "brick_apron"));
+    return a;
 }
 
 // Bricks, list lengths, work and times per level (reads the records back; not part of device time).
@@ -613,7 +650,6 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
             out_.edits_per_leaf_max = std::max(out_.edits_per_leaf_max, b.edit_count);
         }
         out_.edits_per_leaf_mean = static_cast<double>(entries) / static_cast<double>(leaf_count);
-        evaluations += entries * s_.layout().samples_per_brick();
         std::vector<double> errors;
         check_errors(errors);
         std::sort(errors.begin(), errors.end());
@@ -623,10 +659,9 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
         const LevelReport& leaf = out_.level_reports.back();
         out_.edits_per_leaf_mean = static_cast<double>(leaf.edit_entries) / static_cast<double>(leaf_count);
         out_.edits_per_leaf_max = leaf.max_edits;
-        evaluations += leaf.edit_entries * s_.layout().samples_per_brick();
     }
-    out_.edit_evaluations = evaluations;
     report_flops(leaf_count);
+    out_.edit_evaluations = evaluations + out_.work[measure::Stage::evaluate].evaluations;
     out_.memory["brick pool"] = out_.pool->bytes();
     out_.memory["brick records"] = brick_bytes_;
     out_.memory["aabbs"] = out_.aabbs->bytes();
@@ -636,26 +671,34 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["scratch"] = scratch_bytes_;
 }
 
-// Evaluate's work from the leaves' lists (read back), and the FLOPs of count and cull from the
-// mean FLOPs of a leaf list entry.
+// Evaluate's work from the leaves' lists and owned samples (read back), and the FLOPs of count and
+// cull from the mean FLOPs of a leaf list entry.
 void BrickBuilder::Job::report_flops(std::uint64_t leaf_count) {
     std::vector<double> flops(edits_host_.size());
     for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = edit_flops(edits_host_[i]);
-    double entry_flops = 0.0;
-    std::uint64_t entries = 0;
+    const BrickLayout layout = s_.layout();
+    double entry_flops = 0.0, evaluate_flops = 0.0;
+    std::uint64_t entries = 0, evaluations = 0;
     if (leaf_count > 0) {
         const std::vector<cl_uint> lists = parent_lists_->read();
-        for (const SdfBrick& b : leaves().read()) {
-            for (std::uint32_t j = 0; j < b.edit_count; ++j) entry_flops += flops[lists[b.edit_offset + j]];
+        const std::vector<cl_uint> owned = owned_->read();
+        const std::vector<SdfBrick> bricks = leaves().read();
+        for (std::size_t i = 0; i < bricks.size(); ++i) {
+            const SdfBrick& b = bricks[i];
+            double brick_flops = 0.0;
+            for (std::uint32_t j = 0; j < b.edit_count; ++j) brick_flops += flops[lists[b.edit_offset + j]];
+            const std::size_t samples = layout.owned_samples(owned[i]);
+            entry_flops += brick_flops;
+            evaluate_flops += brick_flops * static_cast<double>(samples);
             entries += b.edit_count;
+            evaluations += b.edit_count * samples;
         }
     }
-    const std::uint64_t samples = s_.layout().samples_per_brick();
-    add_work(measure::Stage::evaluate, entries * samples,
-             leaf_count * (sizeof(SdfBrick) + s_.layout().brick_bytes()) + entries * kEntryBytes);
+    add_work(measure::Stage::evaluate, evaluations,
+             leaf_count * (sizeof(SdfBrick) + sizeof(cl_uint) + layout.brick_bytes()) + entries * kEntryBytes);
     const double mean = entries > 0 ? entry_flops / static_cast<double>(entries) : 0.0;
     for (auto& [stage, w] : out_.work) w.flop = static_cast<double>(w.evaluations) * mean;
-    out_.work[measure::Stage::evaluate].flop = entry_flops * static_cast<double>(samples);
+    out_.work[measure::Stage::evaluate].flop = evaluate_flops;
 }
 
 void BrickBuilder::Job::add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes) {

@@ -43,6 +43,9 @@ struct BuildSettings {
     // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
     int eval_lanes = 0;
     bool cull = true;
+    // Apron samples that lie in a neighbour leaf's interior are copied from it instead of evaluated
+    // twice (kernels/sdf_apron.h; changes no bit).
+    bool share_aprons = true;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
     // Adaptive leaves (docs/construction.md, "Adaptive leaves"): with tolerance > 0, leaf_size is the
     // finest brick, and a brick of a coarser level whose samples reproduce the field within

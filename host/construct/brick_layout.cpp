@@ -24,6 +24,18 @@ std::size_t BrickLayout::samples_per_brick() const {
     return static_cast<std::size_t>(samples) * static_cast<std::size_t>(samples) * static_cast<std::size_t>(samples);
 }
 
+std::size_t BrickLayout::owned_samples(std::uint32_t mask) const {
+    std::size_t n = 0;
+    for (int r = 0; r < 27; ++r) {
+        if (((mask >> r) & 1u) == 0) continue;
+        std::size_t size = 1;
+        for (int axis = 0, code = r; axis < 3; ++axis, code /= 3)
+            size *= static_cast<std::size_t>(code % 3 == 1 ? interior() : apron());
+        n += size;
+    }
+    return n;
+}
+
 std::size_t BrickLayout::sample_bytes() const {
     return format == BrickFormat::int8 ? 1 : format == BrickFormat::int16 ? 2 : 4;
 }

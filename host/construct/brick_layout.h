@@ -21,6 +21,9 @@ struct BrickLayout {
     int apron() const { return samples == 10 ? 2 : 1; }
     int interior() const { return samples - 2 * apron(); }  // voxels per brick side: 6 in both layouts
     std::size_t samples_per_brick() const;                  // samples^3
+    // Samples a brick evaluates itself when it owns the apron regions of mask: bit r = (dx + 1) +
+    // 3 (dy + 1) + 9 (dz + 1) for the region towards direction d, bit 13 the interior (kernels/sdf_apron.h).
+    std::size_t owned_samples(std::uint32_t mask) const;
     std::size_t sample_bytes() const;                       // 1, 2 or 4
     std::size_t brick_bytes() const { return samples_per_brick() * sample_bytes(); }
     // The snorm range: a stored s means s * band / levels(); 127, 32767, or 1 for float (not scaled).

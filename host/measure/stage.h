@@ -19,6 +19,7 @@ enum class Stage {
     check,         // construction, adaptive, per level: which bricks reproduce the field within tolerance
     order,         // construction, adaptive: the leaves of every level merged in Morton order
     evaluate,      // construction: the leaf bricks' samples
+    apron,         // construction: which apron samples neighbours evaluate, and their copies
     aabb,          // construction: the leaf bricks' boxes
     bvh,           // bottom-level BVHs over the leaf bricks
     tlas,          // the top level over the object instances
@@ -32,14 +33,14 @@ enum class Stage {
 
 inline constexpr std::array kAllStages = {Stage::edit_bounds, Stage::dependencies, Stage::count, Stage::scan,
                                           Stage::subdivide,   Stage::cull,         Stage::check,    Stage::order,
-                                          Stage::evaluate,    Stage::aabb,
+                                          Stage::evaluate,    Stage::apron,        Stage::aabb,
                                           Stage::bvh,         Stage::tlas,         Stage::trace, Stage::shade,
                                           Stage::reference,   Stage::eval,         Stage::peaks, Stage::mesh};
 // The stages of construction, in the order a build runs them.
 inline constexpr std::array kConstructionStages = {Stage::edit_bounds, Stage::dependencies, Stage::count,
                                                    Stage::scan,        Stage::subdivide,    Stage::cull,
-                                                   Stage::check,       Stage::order,        Stage::evaluate,
-                                                   Stage::aabb};
+                                                   Stage::check,       Stage::order,        Stage::apron,
+                                                   Stage::evaluate,    Stage::aabb};
 
 constexpr std::string_view to_string(Stage s) {
     switch (s) {
@@ -52,6 +53,7 @@ constexpr std::string_view to_string(Stage s) {
         case Stage::check: return "check";
         case Stage::order: return "order";
         case Stage::evaluate: return "evaluate";
+        case Stage::apron: return "apron";
         case Stage::aabb: return "aabb";
         case Stage::bvh: return "bvh";
         case Stage::tlas: return "tlas";
