@@ -36,15 +36,14 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
         barrier(CLK_LOCAL_MEM_FENCE);
+        /* The values do not depend on the fold: unrolled, they overlap (the coarse levels run few
+         * work-groups with long lists, bound by latency). saturation is C where not wide. */
+#pragma unroll 4
         for (uint j = 0; j < n; ++j) {
             const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
-            if (wide) {
-                const float v = sdf_prepared_value(&e, meshes, p);
-                excess += sdf_saturation_excess(&e, v, clamp_c, saturation, threshold, magnitude);
-                field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
-            } else {
-                field = sdf_fold(&e, meshes, field, p, clamp_c);
-            }
+            const float v = sdf_prepared_value(&e, meshes, p);
+            if (wide) excess += sdf_saturation_excess(&e, v, clamp_c, saturation, threshold, magnitude);
+            field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
         }
     }
     kept[lid] = keep_root || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack

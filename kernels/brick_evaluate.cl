@@ -26,31 +26,26 @@ typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
 #define SDF_CONVERT_REAL SDF_REAL_CAT(convert_float, SDF_LANES)
 #endif
 
-/* The samples of the value whose first lane is owned sample c: lane l holds owned sample
- * min(c + l, owned - 1) (order: apron_owned_order); (i, j, k) in the brick. */
-inline void value_samples(uint c, uint owned, __local const ushort* order, sdf_index* i, sdf_index* j, sdf_index* k) {
+/* Where the c-th owned sample is stored: a brick that owns every region numbers its samples as they
+ * are stored; another reads the table apron_owned_order filled. */
+#define OWNED_INDEX(c) (all ? (c) : (uint)order[c])
+
+/* The sample indices of the value whose first lane is owned sample c: lane l holds owned sample
+ * min(c + l, owned - 1). */
+inline sdf_index value_samples(uint c, uint owned, uint mask, __local const ushort* order) {
+    const int all = mask == APRON_ALL_REGIONS;
 #if SDF_LANES == 1
-    const int3 q = apron_sample(order[min(c, owned - 1u)]);
-    *i = q.x;
-    *j = q.y;
-    *k = q.z;
+    return (int)OWNED_INDEX(min(c, owned - 1u));
 #else
-    int qi[SDF_LANES], qj[SDF_LANES], qk[SDF_LANES];
-    for (uint l = 0; l < SDF_LANES; ++l) {
-        const int3 q = apron_sample(order[min(c + l, owned - 1u)]);
-        qi[l] = q.x;
-        qj[l] = q.y;
-        qk[l] = q.z;
-    }
-    *i = SDF_REAL_CAT(vload, SDF_LANES)(0, qi);
-    *j = SDF_REAL_CAT(vload, SDF_LANES)(0, qj);
-    *k = SDF_REAL_CAT(vload, SDF_LANES)(0, qk);
+    int a[SDF_LANES];
+    for (uint l = 0; l < SDF_LANES; ++l) a[l] = (int)OWNED_INDEX(min(c + l, owned - 1u));
+    return SDF_REAL_CAT(vload, SDF_LANES)(0, a);
 #endif
 }
 
 /* Stores the value whose first lane is owned sample c (lanes past the last owned sample are dropped). */
-inline void store_samples(__global sample_t* out, uint c, uint owned, __local const ushort* order, sdf_real field,
-                          float band, float quant_scale) {
+inline void store_samples(__global sample_t* out, uint c, uint owned, uint mask, __local const ushort* order,
+                          sdf_real field, float band, float quant_scale) {
     const sdf_real d = fmin(fmax(field, -band), band);
 #if FORMAT == 2
     const sdf_real q = d;
@@ -63,33 +58,25 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, __local co
 #else
     SDF_REAL_CAT(vstore, SDF_LANES)(q, 0, lanes);
 #endif
-    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[order[c + l]] = (sample_t)lanes[l];
+    const int all = mask == APRON_ALL_REGIONS;
+    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[OWNED_INDEX(c + l)] = (sample_t)lanes[l];
 }
 
-/* Folds edit e into this work-item's first active values. The primitive and operation are branched on once per
- * edit, outside the loop over the values (EVAL_HOIST 2; 1: the primitive only; 0: once per value). */
-#ifndef EVAL_HOIST
-#define EVAL_HOIST 2
-#endif
+/* Folds edit e into this work-item's first active values. The primitive and operation are branched on
+ * once per edit, outside the loop over the values. On an H200 (docs/performance.md) that took drops'
+ * evaluation from 8.76 ms to 6.54; rain's, with short lists and more registers, from 2.58 to 2.98. */
 #define FOLD_VALUES(PRIM, OP)                                                                              \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
         if (s < active) field[s] = sdf_fold_of(e, PRIM, OP, meshes, field[s], px[s], py[s], pz[s], clamp_c)
-#if EVAL_HOIST == 2
 #define FOLD_PRIM(PRIM)                                                                                    \
     switch (op) {                                                                                          \
         case SDF_OP_ADD: FOLD_VALUES(PRIM, SDF_OP_ADD); break;                                             \
         case SDF_OP_SUBTRACT: FOLD_VALUES(PRIM, SDF_OP_SUBTRACT); break;                                   \
         default: FOLD_VALUES(PRIM, op); break;                                                             \
     }
-#else
-#define FOLD_PRIM(PRIM) FOLD_VALUES(PRIM, op)
-#endif
 inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
                         const sdf_real* py, const sdf_real* pz, float clamp_c, uint active) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
-#if EVAL_HOIST == 0
-    FOLD_VALUES(prim, op);
-#else
     switch (prim) {
         case SDF_PRIM_SPHERE: FOLD_PRIM(SDF_PRIM_SPHERE); break;
         case SDF_PRIM_BOX: FOLD_PRIM(SDF_PRIM_BOX); break;
@@ -101,7 +88,6 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
         case SDF_PRIM_ELLIPSOID: FOLD_PRIM(SDF_PRIM_ELLIPSOID); break;
         default: FOLD_VALUES(prim, op); break; /* Menger, mesh: long enough that the switch costs nothing */
     }
-#endif
 }
 
 __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
@@ -113,10 +99,11 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
-    const uint mask = owned_regions[brick], owned = apron_owned_count(mask);
-    __local uint offsets[27];
+    const uint mask = owned_regions[brick];
+    const uint owned = mask == APRON_ALL_REGIONS ? SAMPLE_COUNT : apron_owned_count(mask);
     __local ushort order[SAMPLE_COUNT];
-    apron_owned_order(mask, offsets, order);
+    __local uint offsets[27];
+    if (mask != APRON_ALL_REGIONS) apron_owned_order(mask, offsets, order); /* the same branch in every work-item */
     const uint span = wg * SDF_LANES; /* owned samples per value slot of the work-group */
     const uint active = lid * SDF_LANES < owned ? min((uint)PER_ITEM, (owned - lid * SDF_LANES + span - 1u) / span) : 0u;
     const int shift = (int)((finest - b.level) * log2b);
@@ -125,11 +112,10 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
     sdf_real px[PER_ITEM], py[PER_ITEM], pz[PER_ITEM], field[PER_ITEM];
     for (uint s = 0; s < PER_ITEM; ++s) {
-        sdf_index i, j, k;
-        value_samples((s * wg + lid) * SDF_LANES, owned, order, &i, &j, &k);
-        px[s] = origin_x + (SDF_CONVERT_REAL(first.x + i) + 0.5f) * voxel;
-        py[s] = origin_y + (SDF_CONVERT_REAL(first.y + j) + 0.5f) * voxel;
-        pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + k) + 0.5f) * voxel;
+        const sdf_index idx = value_samples((s * wg + lid) * SDF_LANES, owned, mask, order);
+        px[s] = origin_x + (SDF_CONVERT_REAL(first.x + idx % SAMPLES) + 0.5f) * voxel;
+        py[s] = origin_y + (SDF_CONVERT_REAL(first.y + (idx / SAMPLES) % SAMPLES) + 0.5f) * voxel;
+        pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + idx / (SAMPLES * SAMPLES)) + 0.5f) * voxel;
         field[s] = clamp_c;
     }
     for (uint base = 0; base < b.edit_count; base += chunk_size) {
@@ -144,5 +130,5 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;
     for (uint s = 0; s < active; ++s)
-        store_samples(out, (s * wg + lid) * SDF_LANES, owned, order, field[s], band, quant_scale);
+        store_samples(out, (s * wg + lid) * SDF_LANES, owned, mask, order, field[s], band, quant_scale);
 }

@@ -40,36 +40,38 @@ inline uint apron_owned_count(uint mask) {
 
 /* Per axis: the region code (0, 1, 2 for direction -1, 0, +1) of sample coordinate i, the first
  * sample of that code's range and its length. */
-inline int apron_code(int i) { return i < APRON ? 0 : i < SAMPLES - APRON ? 1 : 2; }
-inline int apron_first(int code) { return code == 0 ? 0 : code == 1 ? APRON : SAMPLES - APRON; }
+inline uint apron_code(int i) { return i < APRON ? 0u : i < SAMPLES - APRON ? 1u : 2u; }
+inline uint apron_first(uint code) { return code == 0u ? 0u : code == 1u ? (uint)APRON : (uint)(SAMPLES - APRON); }
 
 inline int3 apron_sample(uint a) {
     return (int3)((int)(a % SAMPLES), (int)(a / SAMPLES % SAMPLES), (int)(a / (SAMPLES * SAMPLES)));
 }
 
-/* The region of sample (i, j, k), and the sample's position in its region (x fastest). */
-inline uint apron_region_of(int3 q) { return (uint)(apron_code(q.x) + 3 * apron_code(q.y) + 9 * apron_code(q.z)); }
-inline uint apron_within(int3 q) {
-    const int cx = apron_code(q.x), cy = apron_code(q.y), cz = apron_code(q.z);
-    return (uint)((q.x - apron_first(cx)) + APRON_EXTENT(cx) * ((q.y - apron_first(cy)) + APRON_EXTENT(cy) * (q.z - apron_first(cz))));
-}
+/* The region of sample (i, j, k). */
+inline uint apron_region_of(int3 q) { return apron_code(q.x) + 3u * apron_code(q.y) + 9u * apron_code(q.z); }
 
-/* The owned samples of a work-group's brick in order: region by region (region order), x fastest
- * inside a region. Fills order[c] = sample index of the c-th owned sample, c < apron_owned_count(mask);
- * offsets (27 entries) is scratch. Every work-item of the group calls it; it ends with a barrier. */
+/* Owned samples are numbered interior first (x fastest), then the other owned regions in region
+ * order (x fastest inside each). */
+#define APRON_INTERIOR_COUNT (INTERIOR * INTERIOR * INTERIOR)
+
+/* The owned samples of mask in that order, as a table: order[c] = the sample index of the c-th owned
+ * sample (c < apron_owned_count(mask)); offsets (27 entries) is scratch. Every work-item of the group calls it (it has barriers). */
 inline void apron_owned_order(uint mask, __local uint* offsets, __local ushort* order) {
     const uint lid = get_local_id(0), wg = get_local_size(0);
     for (uint r = lid; r < 27u; r += wg) {
-        uint o = 0;
+        uint o = APRON_INTERIOR_COUNT;
         for (uint p = 0; p < r; ++p)
-            if ((mask >> p) & 1u) o += apron_region_size[p];
-        offsets[r] = o;
+            if (p != APRON_INTERIOR_REGION && ((mask >> p) & 1u)) o += apron_region_size[p];
+        offsets[r] = r == APRON_INTERIOR_REGION ? 0u : o;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint a = lid; a < SAMPLE_COUNT; a += wg) {
         const int3 q = apron_sample(a);
-        const uint r = apron_region_of(q);
-        if ((mask >> r) & 1u) order[offsets[r] + apron_within(q)] = (ushort)a;
+        const uint cx = apron_code(q.x), cy = apron_code(q.y), cz = apron_code(q.z);
+        const uint r = cx + 3u * cy + 9u * cz;
+        if ((mask >> r) & 1u)
+            order[offsets[r] + ((uint)q.x - apron_first(cx)) +
+                  APRON_EXTENT(cx) * (((uint)q.y - apron_first(cy)) + APRON_EXTENT(cy) * ((uint)q.z - apron_first(cz)))] = (ushort)a;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
 }

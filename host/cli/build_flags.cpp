@@ -36,14 +36,15 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation: 1, 2, 4, 8 or 16 (default: "
                                               "the native float width on CPU devices, else 1; changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
-    cmd->add_flag("--own-aprons", own_aprons, "every brick evaluates its own apron samples instead of copying those its "
-                                              "neighbours evaluate (must give the same pool)");
+    cmd->add_option("--apron-share-edits", s.apron_share_edits,
+                    "a leaf with at least this many edits copies the apron samples its neighbours evaluate instead of "
+                    "evaluating them (0: none does; default: none on CPU devices, else 16; changes no bit)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
     add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"tolerance", "--tolerance"},
                             {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
                             {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
-                            {"eval_lanes", "--lanes"}});
+                            {"eval_lanes", "--lanes"}, {"apron_share_edits", "--apron-share-edits"}});
 }
 
 construct::BuildSettings BuildFlags::resolve() const {
@@ -52,7 +53,6 @@ construct::BuildSettings BuildFlags::resolve() const {
     if (!f) throw InputError(fmt::format("--format must be int8, int16 or float, got \"{}\"", format));
     s.format = *f;
     s.cull = !no_cull;
-    s.share_aprons = !own_aprons;
     if (tolerance_ != nullptr && tolerance_->count() > 0 && !(s.tolerance > 0.0))
         throw SettingError("tolerance", fmt::format("tolerance must be a positive number, got {}", s.tolerance));
     if (tolerance_voxels) {
@@ -83,7 +83,7 @@ nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
             {"chunk", s.chunk}, {"group", s.eval_group}, {"lanes", s.eval_lanes}, {"cull", s.cull},
-            {"share_aprons", s.share_aprons}, {"dependencies", s.dependencies},
+            {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
             {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 

@@ -17,7 +17,6 @@ struct BuildFlags {
     construct::BuildSettings settings;
     std::string format = "int8";
     bool no_cull = false;
-    bool own_aprons = false;
     std::optional<double> tolerance_voxels;
 
     // Adds --brick-size --levels --branching --samples --format --band --guard --chunk --group --no-cull

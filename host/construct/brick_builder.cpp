@@ -30,6 +30,9 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (levels < 0 || levels > 31)
         throw SettingError("levels", fmt::format("levels must lie in 1..31 (0 = automatic), got {}", levels));
     if (chunk < 16 || chunk > 256) throw SettingError("chunk", fmt::format("chunk must lie in 16..256, got {}", chunk));
+    if (apron_share_edits < -1)
+        throw SettingError("apron_share_edits",
+                           fmt::format("apron_share_edits must be 0 or more (-1: by device), got {}", apron_share_edits));
     if (eval_group < 1 || eval_group > 1024 || (eval_group & (eval_group - 1)) != 0)
         throw SettingError("eval_group", fmt::format("eval_group must be a power of two in 1..1024, got {}", eval_group));
     if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
@@ -55,6 +58,11 @@ int BuildSettings::lanes(const ocl::DeviceInfo& device) const {
     if (eval_lanes != 0) return eval_lanes;
     const std::uint32_t w = device.native_float_width;
     return device.type == "cpu" && w >= 2 && w <= 16 && (w & (w - 1)) == 0 ? static_cast<int>(w) : 1;
+}
+
+int BuildSettings::share_edits(const ocl::DeviceInfo& device) const {
+    if (apron_share_edits >= 0) return apron_share_edits;
+    return device.type == "cpu" ? 0 : kGpuApronShareEdits;
 }
 
 double auto_leaf_size(double tolerance, const BrickLayout& layout) {
@@ -300,7 +308,7 @@ public:
     std::uint64_t assemble_leaves();
     void evaluate_leaves(std::uint64_t leaf_count);
     struct ApronSharing {
-        ocl::Buffer<cl_ulong> keys;             // every leaf's Morton key (empty when sharing is off)
+        ocl::Buffer<cl_uint> neighbours;        // per leaf, 27: the leaf it copies each region from
         std::optional<ocl::Program> program;   // brick_apron.cl, when sharing is on
         std::optional<ocl::Kernel> copy;
     };
@@ -573,9 +581,8 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
                   plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
     scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
     if (apron.copy) {
-        ocl::set_args(apron.copy->get(), leaves(), apron.keys, *owned_, static_cast<cl_uint>(leaf_count), finest,
-                      plan_.log2b, *out_.pool);
-        scheduler_.launch(measure::Stage::apron, leaf_level, apron.copy->get(), round_up(leaf_count * 32, kGroup1d), kGroup1d);
+        ocl::set_args(apron.copy->get(), *owned_, apron.neighbours, *out_.pool);
+        scheduler_.launch(measure::Stage::apron, leaf_level, apron.copy->get(), leaf_count * kGroup1d, kGroup1d);
     }
     ocl::set_args(b_.programs_->aabb_k.get(), leaves(), static_cast<cl_uint>(leaf_count), origin_.x, origin_.y,
                   origin_.z, out_.leaf_size, finest, plan_.log2b, *out_.aabbs, *out_.shifts);
@@ -585,22 +592,26 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
 
 // Which regions of its samples each leaf evaluates (owned_): with sharing on, its interior and the
 // apron regions whose neighbour of the same level is not a leaf (brick_keys, brick_owned); else all.
-// Returns the keys and the copy kernel that brick_apron.cl runs after the evaluation.
+// Returns the neighbours and the copy kernel that brick_apron.cl runs after the evaluation.
 BrickBuilder::Job::ApronSharing BrickBuilder::Job::share_aprons(std::uint64_t leaf_count) {
+    const int share_edits = s_.share_edits(d_.info());
+    const bool share = share_edits > 0;
     owned_ = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(d_, leaf_count, "the apron masks"));
-    ApronSharing a{ocl::Buffer<cl_ulong>(d_, s_.share_aprons ? leaf_count : 0), std::nullopt, std::nullopt};
-    scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, owned_->bytes() + a.keys.bytes());
-    if (!s_.share_aprons) {
+    ApronSharing a{allocate<cl_uint>(d_, share ? leaf_count * 27 : 0, "the apron neighbours"), std::nullopt, std::nullopt};
+    ocl::Buffer<cl_ulong> keys = allocate<cl_ulong>(d_, share ? leaf_count : 0, "the leaf keys");
+    scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, owned_->bytes() + a.neighbours.bytes() + keys.bytes());
+    if (!share) {
         owned_->write(std::vector<cl_uint>(leaf_count, kAllApronRegions));
         return a;
     }
     a.program.emplace(ocl::build_program(d_, "brick_apron.cl", s_.layout().defines()));
-    const ocl::Kernel keys = ocl::make_kernel(*a.program, "brick_keys"), owned = ocl::make_kernel(*a.program, "brick_owned");
+    const ocl::Kernel keys_k = ocl::make_kernel(*a.program, "brick_keys"), owned = ocl::make_kernel(*a.program, "brick_owned");
     const auto count = static_cast<cl_uint>(leaf_count), finest = static_cast<cl_uint>(plan_.finest());
     const int leaf_level = plan_.domain.levels - 1;
-    ocl::set_args(keys.get(), leaves(), count, finest, plan_.log2b, a.keys);
-    scheduler_.launch(measure::Stage::apron, leaf_level, keys.get(), round_up(leaf_count, kGroup1d), kGroup1d);
-    ocl::set_args(owned.get(), leaves(), a.keys, count, finest, plan_.log2b, *owned_);
+    ocl::set_args(keys_k.get(), leaves(), count, finest, plan_.log2b, keys);
+    scheduler_.launch(measure::Stage::apron, leaf_level, keys_k.get(), round_up(leaf_count, kGroup1d), kGroup1d);
+    ocl::set_args(owned.get(), leaves(), keys, count, finest, plan_.log2b, static_cast<cl_uint>(share_edits),
+                  *owned_, a.neighbours);
     scheduler_.launch(measure::Stage::apron, leaf_level, owned.get(), round_up(leaf_count, kGroup1d), kGroup1d);
     a.copy.emplace(ocl::make_kernel(*a.program, "brick_apron"));
     return a;

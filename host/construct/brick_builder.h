@@ -43,9 +43,11 @@ struct BuildSettings {
     // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
     int eval_lanes = 0;
     bool cull = true;
-    // Apron samples that lie in a neighbour leaf's interior are copied from it instead of evaluated
-    // twice (kernels/sdf_apron.h; changes no bit).
-    bool share_aprons = true;
+    // A leaf with at least this many edits copies the apron samples that lie in a neighbour leaf's
+    // interior from it instead of evaluating them again (kernels/sdf_apron.h; changes no bit); a
+    // shorter list costs less to evaluate than to share. 0: no leaf shares; -1: by device
+    // (share_edits()).
+    int apron_share_edits = -1;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
     // Adaptive leaves (docs/construction.md, "Adaptive leaves"): with tolerance > 0, leaf_size is the
     // finest brick, and a brick of a coarser level whose samples reproduce the field within
@@ -56,6 +58,10 @@ struct BuildSettings {
     bool adaptive() const { return tolerance > 0.0; }
     BrickLayout layout() const { return {samples, format}; }
     int lanes(const ocl::DeviceInfo& device) const;
+    // apron_share_edits, or where it is -1: none on CPU devices (their SIMD lanes evaluate the aprons
+    // for less than finding and copying them costs), kGpuApronShareEdits elsewhere.
+    int share_edits(const ocl::DeviceInfo& device) const;
+    static constexpr int kGpuApronShareEdits = 16;
     double voxel() const { return leaf_size / layout().interior(); }
     // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
