@@ -6,7 +6,7 @@
  * chunk into its samples, barrier, next chunk. Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
- * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT.
+ * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below).
  * Lane l of value s of work-item lid holds owned sample (s * local size + lid) * lanes + l (with one
  * lane, consecutive work-items hold consecutive samples); a value whose first lane is past the last
  * owned sample is not evaluated, and lanes past it repeat the last one and are not stored.
@@ -24,6 +24,15 @@ typedef int sdf_index;
 #else
 typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
 #define SDF_CONVERT_REAL SDF_REAL_CAT(convert_float, SDF_LANES)
+#if SDF_LANES == 2
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1))
+#elif SDF_LANES == 4
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3))
+#elif SDF_LANES == 8
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7))
+#else
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+#endif
 #endif
 
 /* Where the c-th owned sample is stored: a brick that owns every region numbers its samples as they
@@ -37,8 +46,9 @@ inline sdf_index value_samples(uint c, uint owned, uint mask, __local const usho
 #if SDF_LANES == 1
     return (int)OWNED_INDEX(min(c, owned - 1u));
 #else
+    if (all) return min((sdf_index)((int)c) + SDF_LANE_OFFSETS, (int)owned - 1);
     int a[SDF_LANES];
-    for (uint l = 0; l < SDF_LANES; ++l) a[l] = (int)OWNED_INDEX(min(c + l, owned - 1u));
+    for (uint l = 0; l < SDF_LANES; ++l) a[l] = (int)order[min(c + l, owned - 1u)];
     return SDF_REAL_CAT(vload, SDF_LANES)(0, a);
 #endif
 }
@@ -62,9 +72,11 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, uint mask,
     for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[OWNED_INDEX(c + l)] = (sample_t)lanes[l];
 }
 
-/* Folds edit e into this work-item's first active values. The primitive and operation are branched on
- * once per edit, outside the loop over the values. On an H200 (docs/performance.md) that took drops'
- * evaluation from 8.76 ms to 6.54; rain's, with short lists and more registers, from 2.58 to 2.98. */
+/* Folds edit e into this work-item's first active values. With EVAL_HOIST 1 the primitive and
+ * operation are branched on once per edit, outside the loop over the values; with 0 once per value.
+ * The host hoists for long lists: on an H200 (docs/performance.md) hoisting took drops' evaluation
+ * (23 edits a leaf) from 8.76 ms to 6.54, and rain's (8), which the extra registers cost more than
+ * the branches, from 2.58 to 2.98. */
 #define FOLD_VALUES(PRIM, OP)                                                                              \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
         if (s < active) field[s] = sdf_fold_of(e, PRIM, OP, meshes, field[s], px[s], py[s], pz[s], clamp_c)
@@ -77,6 +89,7 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, uint mask,
 inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
                         const sdf_real* py, const sdf_real* pz, float clamp_c, uint active) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
+#if EVAL_HOIST
     switch (prim) {
         case SDF_PRIM_SPHERE: FOLD_PRIM(SDF_PRIM_SPHERE); break;
         case SDF_PRIM_BOX: FOLD_PRIM(SDF_PRIM_BOX); break;
@@ -88,6 +101,9 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
         case SDF_PRIM_ELLIPSOID: FOLD_PRIM(SDF_PRIM_ELLIPSOID); break;
         default: FOLD_VALUES(prim, op); break; /* Menger, mesh: long enough that the switch costs nothing */
     }
+#else
+    FOLD_VALUES(prim, op);
+#endif
 }
 
 __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,

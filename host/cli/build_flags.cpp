@@ -38,7 +38,7 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_option("--apron-share-edits", s.apron_share_edits,
                     "a leaf with at least this many edits copies the apron samples its neighbours evaluate instead of "
-                    "evaluating them (0: none does; default: none on CPU devices, else 16; changes no bit)");
+                    "evaluating them (0: none does; default: 16 on GPUs where the leaves' mean list is that long, else none; changes no bit)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
     add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"tolerance", "--tolerance"},
                             {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},

@@ -60,9 +60,9 @@ int BuildSettings::lanes(const ocl::DeviceInfo& device) const {
     return device.type == "cpu" && w >= 2 && w <= 16 && (w & (w - 1)) == 0 ? static_cast<int>(w) : 1;
 }
 
-int BuildSettings::share_edits(const ocl::DeviceInfo& device) const {
+int BuildSettings::share_edits(const ocl::DeviceInfo& device, double mean_list) const {
     if (apron_share_edits >= 0) return apron_share_edits;
-    return device.type == "cpu" ? 0 : kGpuApronShareEdits;
+    return device.type == "cpu" || mean_list < kLongList ? 0 : kLongList;
 }
 
 double auto_leaf_size(double tolerance, const BrickLayout& layout) {
@@ -312,7 +312,7 @@ public:
         std::optional<ocl::Program> program;   // brick_apron.cl, when sharing is on
         std::optional<ocl::Kernel> copy;
     };
-    ApronSharing share_aprons(std::uint64_t leaf_count);
+    ApronSharing share_aprons(std::uint64_t leaf_count, int share_edits);
     void report(std::uint64_t leaf_count);
     void report_flops(std::uint64_t leaf_count);
     void add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes);
@@ -569,13 +569,16 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const auto lanes = static_cast<std::size_t>(s_.lanes(d_.info()));
     const std::size_t group = std::min<std::size_t>(s_.eval_group, (samples3 + lanes - 1) / lanes);
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
+    const double mean_list = s_.cull ? static_cast<double>(parent_lists_->size()) / static_cast<double>(leaf_count)
+                                     : static_cast<double>(edits_host_.size());
     const ocl::Program program = ocl::build_program(
-        d_, "brick_evaluate.cl", fmt::format("{} -DSDF_LANES={} -DPER_ITEM={}", layout.defines(), lanes, per_item));
+        d_, "brick_evaluate.cl", fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={}", layout.defines(), lanes,
+                                             per_item, mean_list >= BuildSettings::kLongList ? 1 : 0));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
-    const ApronSharing apron = share_aprons(leaf_count);
+    const ApronSharing apron = share_aprons(leaf_count, s_.share_edits(d_.info(), mean_list));
     ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), *owned_, origin_.x, origin_.y, origin_.z,
                   static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
                   plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
@@ -593,8 +596,7 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
 // Which regions of its samples each leaf evaluates (owned_): with sharing on, its interior and the
 // apron regions whose neighbour of the same level is not a leaf (brick_keys, brick_owned); else all.
 // Returns the neighbours and the copy kernel that brick_apron.cl runs after the evaluation.
-BrickBuilder::Job::ApronSharing BrickBuilder::Job::share_aprons(std::uint64_t leaf_count) {
-    const int share_edits = s_.share_edits(d_.info());
+BrickBuilder::Job::ApronSharing BrickBuilder::Job::share_aprons(std::uint64_t leaf_count, int share_edits) {
     const bool share = share_edits > 0;
     owned_ = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(d_, leaf_count, "the apron masks"));
     ApronSharing a{allocate<cl_uint>(d_, share ? leaf_count * 27 : 0, "the apron neighbours"), std::nullopt, std::nullopt};

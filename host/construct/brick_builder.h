@@ -45,7 +45,7 @@ struct BuildSettings {
     bool cull = true;
     // A leaf with at least this many edits copies the apron samples that lie in a neighbour leaf's
     // interior from it instead of evaluating them again (kernels/sdf_apron.h; changes no bit); a
-    // shorter list costs less to evaluate than to share. 0: no leaf shares; -1: by device
+    // shorter list costs less to evaluate than to share. 0: no leaf shares; -1: by device and build
     // (share_edits()).
     int apron_share_edits = -1;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
@@ -59,9 +59,13 @@ struct BuildSettings {
     BrickLayout layout() const { return {samples, format}; }
     int lanes(const ocl::DeviceInfo& device) const;
     // apron_share_edits, or where it is -1: none on CPU devices (their SIMD lanes evaluate the aprons
-    // for less than finding and copying them costs), kGpuApronShareEdits elsewhere.
-    int share_edits(const ocl::DeviceInfo& device) const;
-    static constexpr int kGpuApronShareEdits = 16;
+    // for less than finding and copying them costs) and none where the leaves' lists are short (a
+    // mean below kLongList edits: the few leaves that could share would not pay for the search),
+    // else kLongList.
+    int share_edits(const ocl::DeviceInfo& device, double mean_list) const;
+    // A mean leaf list this long pays for sharing aprons and for branching on the primitive once per
+    // edit (kernels/brick_evaluate.cl; measured on an H200 between rain's 8 and drops' 23 edits).
+    static constexpr int kLongList = 16;
     double voxel() const { return leaf_size / layout().interior(); }
     // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;

@@ -224,7 +224,7 @@ TEST(Sweep, CsvHeaderIsTheColumnList) {
               "check_error_max,levels,edit_evaluations,"
               "memory_bytes,build_ms,build_min_ms,build_max_ms,build_cv,trace_ms,trace_min_ms,trace_max_ms,trace_cv,"
               "bvh_ms,stage_edit_bounds_ms,stage_dependencies_ms,stage_count_ms,stage_scan_ms,stage_subdivide_ms,"
-              "stage_cull_ms,stage_check_ms,stage_order_ms,stage_evaluate_ms,stage_aabb_ms,evaluate_local_bytes,"
+              "stage_cull_ms,stage_check_ms,stage_order_ms,stage_apron_ms,stage_evaluate_ms,stage_aabb_ms,evaluate_local_bytes,"
               "evaluate_registers,"
               "evaluate_groups_per_cu,evaluate_resident_groups,evaluate_occupancy,evaluate_waves,"
               "evaluations_per_second,write_gbps,bandwidth_fraction,peak_bandwidth_gbps,peak_fma_gflops,mismatch,"
