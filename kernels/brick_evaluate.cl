@@ -6,7 +6,8 @@
  * chunk into its samples, barrier, next chunk. Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
- * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below).
+ * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below),
+ * APRON_SHARED (0: every leaf owns all its samples, and the kernel reads no owned_regions).
  * Lane l of value s of work-item lid holds owned sample (s * local size + lid) * lanes + l (with one
  * lane, consecutive work-items hold consecutive samples); a value whose first lane is past the last
  * owned sample is not evaluated, and lanes past it repeat the last one and are not stored.
@@ -115,13 +116,17 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
+    __local ushort order[SAMPLE_COUNT];
+#if APRON_SHARED
     const uint mask = owned_regions[brick];
     const uint owned = mask == APRON_ALL_REGIONS ? SAMPLE_COUNT : apron_owned_count(mask);
-    __local ushort order[SAMPLE_COUNT];
     __local uint offsets[27];
     if (mask != APRON_ALL_REGIONS) apron_owned_order(mask, offsets, order); /* the same branch in every work-item */
     const uint span = wg * SDF_LANES; /* owned samples per value slot of the work-group */
     const uint active = lid * SDF_LANES < owned ? min((uint)PER_ITEM, (owned - lid * SDF_LANES + span - 1u) / span) : 0u;
+#else
+    const uint mask = APRON_ALL_REGIONS, owned = SAMPLE_COUNT, active = PER_ITEM; /* a build that shares nothing */
+#endif
     const int shift = (int)((finest - b.level) * log2b);
     const float voxel = ldexp(finest_voxel, shift), band = ldexp(finest_band, shift);
     const float quant_scale = ldexp(finest_quant_scale, -shift), clamp_c = level_clamp[b.level];

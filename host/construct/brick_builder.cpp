@@ -571,14 +571,16 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
     const double mean_list = s_.cull ? static_cast<double>(parent_lists_->size()) / static_cast<double>(leaf_count)
                                      : static_cast<double>(edits_host_.size());
+    const int share_edits = s_.share_edits(d_.info(), mean_list);
     const ocl::Program program = ocl::build_program(
-        d_, "brick_evaluate.cl", fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={}", layout.defines(), lanes,
-                                             per_item, mean_list >= BuildSettings::kLongList ? 1 : 0));
+        d_, "brick_evaluate.cl",
+        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={}", layout.defines(), lanes, per_item,
+                    mean_list >= BuildSettings::kLongList ? 1 : 0, share_edits > 0 ? 1 : 0));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
-    const ApronSharing apron = share_aprons(leaf_count, s_.share_edits(d_.info(), mean_list));
+    const ApronSharing apron = share_aprons(leaf_count, share_edits);
     ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), *owned_, origin_.x, origin_.y, origin_.z,
                   static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
                   plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
