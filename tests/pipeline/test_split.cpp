@@ -63,6 +63,7 @@ TEST(PipelineSplit, BuildEqualsOneDeviceBitForBit) {
     const std::string env = two_devices(dir);
     const std::string two = two_geometry_scene(dir).string();
     for (const std::string& args : {"build " + scene_path("drops") + " --brick-size 0.25",
+                                    "build " + scene_path("drops") + " --brick-size 0.25 --apron-share-edits 1",
                                     "build " + two + " --brick-size 0.125", "build " + two + " --brick-size 0.125 --no-cull"}) {
         {
             const nlohmann::json one = run_json(dir, env, "--device 0 " + args);
