@@ -36,16 +36,15 @@ typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
 #endif
 #endif
 
-/* Where the c-th owned sample is stored: a brick that owns every region numbers its samples as they
- * are stored; another reads the table apron_owned_order filled. */
-#define OWNED_INDEX(c) (all ? (c) : (uint)order[c])
+/* Where the c-th owned sample is stored: a brick that owns every region (all) numbers its samples as
+ * they are stored; another reads the table apron_owned_order filled. */
+inline uint owned_index(uint c, int all, __local const ushort* order) { return all ? c : (uint)order[c]; }
 
 /* The sample indices of the value whose first lane is owned sample c: lane l holds owned sample
  * min(c + l, owned - 1). */
-inline sdf_index value_samples(uint c, uint owned, uint mask, __local const ushort* order) {
-    const int all = mask == APRON_ALL_REGIONS;
+inline sdf_index value_samples(uint c, uint owned, int all, __local const ushort* order) {
 #if SDF_LANES == 1
-    return (int)OWNED_INDEX(min(c, owned - 1u));
+    return (int)owned_index(min(c, owned - 1u), all, order);
 #else
     if (all) return min((sdf_index)((int)c) + SDF_LANE_OFFSETS, (int)owned - 1);
     int a[SDF_LANES];
@@ -55,7 +54,7 @@ inline sdf_index value_samples(uint c, uint owned, uint mask, __local const usho
 }
 
 /* Stores the value whose first lane is owned sample c (lanes past the last owned sample are dropped). */
-inline void store_samples(__global sample_t* out, uint c, uint owned, uint mask, __local const ushort* order,
+inline void store_samples(__global sample_t* out, uint c, uint owned, int all, __local const ushort* order,
                           sdf_real field, float band, float quant_scale) {
     const sdf_real d = fmin(fmax(field, -band), band);
 #if FORMAT == 2
@@ -69,8 +68,7 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, uint mask,
 #else
     SDF_REAL_CAT(vstore, SDF_LANES)(q, 0, lanes);
 #endif
-    const int all = mask == APRON_ALL_REGIONS;
-    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[OWNED_INDEX(c + l)] = (sample_t)lanes[l];
+    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[owned_index(c + l, all, order)] = (sample_t)lanes[l];
 }
 
 /* Folds edit e into this work-item's first active values. With EVAL_HOIST 1 the primitive and
@@ -119,13 +117,15 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     __local ushort order[SAMPLE_COUNT];
 #if APRON_SHARED
     const uint mask = owned_regions[brick];
-    const uint owned = mask == APRON_ALL_REGIONS ? SAMPLE_COUNT : apron_owned_count(mask);
+    const int all = mask == APRON_ALL_REGIONS;
+    const uint owned = all ? SAMPLE_COUNT : apron_owned_count(mask);
     __local uint offsets[27];
-    if (mask != APRON_ALL_REGIONS) apron_owned_order(mask, offsets, order); /* the same branch in every work-item */
+    if (!all) apron_owned_order(mask, offsets, order); /* the same branch in every work-item */
     const uint span = wg * SDF_LANES; /* owned samples per value slot of the work-group */
     const uint active = lid * SDF_LANES < owned ? min((uint)PER_ITEM, (owned - lid * SDF_LANES + span - 1u) / span) : 0u;
 #else
-    const uint mask = APRON_ALL_REGIONS, owned = SAMPLE_COUNT, active = PER_ITEM; /* a build that shares nothing */
+    const int all = 1;
+    const uint owned = SAMPLE_COUNT, active = PER_ITEM; /* a build that shares nothing */
 #endif
     const int shift = (int)((finest - b.level) * log2b);
     const float voxel = ldexp(finest_voxel, shift), band = ldexp(finest_band, shift);
@@ -133,7 +133,7 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
     sdf_real px[PER_ITEM], py[PER_ITEM], pz[PER_ITEM], field[PER_ITEM];
     for (uint s = 0; s < PER_ITEM; ++s) {
-        const sdf_index idx = value_samples((s * wg + lid) * SDF_LANES, owned, mask, order);
+        const sdf_index idx = value_samples((s * wg + lid) * SDF_LANES, owned, all, order);
         px[s] = origin_x + (SDF_CONVERT_REAL(first.x + idx % SAMPLES) + 0.5f) * voxel;
         py[s] = origin_y + (SDF_CONVERT_REAL(first.y + (idx / SAMPLES) % SAMPLES) + 0.5f) * voxel;
         pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + idx / (SAMPLES * SAMPLES)) + 0.5f) * voxel;
@@ -151,5 +151,5 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;
     for (uint s = 0; s < active; ++s)
-        store_samples(out, (s * wg + lid) * SDF_LANES, owned, mask, order, field[s], band, quant_scale);
+        store_samples(out, (s * wg + lid) * SDF_LANES, owned, all, order, field[s], band, quant_scale);
 }

@@ -16,23 +16,18 @@
 
 #include "sdf_edit.h"
 
-/* One step of the band-limited fold, at (x, y, z), for an edit of primitive prim and operation op
- * (constants fold the switches away: sdf_edit_value_of). */
+/* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h), for an edit of primitive prim
+ * and operation op (constants fold the switches away: sdf_edit_value_of). */
 inline sdf_real sdf_fold_of(const SdfPrepared* e, uint prim, uint op, __global const float* meshes, sdf_real field,
                             sdf_real x, sdf_real y, sdf_real z, float clamp_c) {
     const sdf_real f = sdf_combine_of(e, op, field, sdf_edit_value_of(e, prim, meshes, x, y, z));
     return fmin(fmax(f, -clamp_c), clamp_c);
 }
 
-/* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h). */
-inline sdf_real sdf_fold_at(const SdfPrepared* e, __global const float* meshes, sdf_real field, sdf_real x, sdf_real y,
-                            sdf_real z, float clamp_c) {
-    return sdf_fold_of(e, e->kind & 0xffu, (e->kind >> 8) & 0xffu, meshes, field, x, y, z, clamp_c);
-}
-
 #if SDF_LANES == 1
+/* One step of the band-limited fold, at p. */
 inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float field, float3 p, float clamp_c) {
-    return sdf_fold_at(e, meshes, field, p.x, p.y, p.z, clamp_c);
+    return sdf_fold_of(e, e->kind & 0xffu, (e->kind >> 8) & 0xffu, meshes, field, p.x, p.y, p.z, clamp_c);
 }
 #endif
 

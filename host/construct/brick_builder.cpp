@@ -96,7 +96,6 @@ BrickBuilder::~BrickBuilder() = default;
 namespace {
 
 constexpr std::size_t kGroup1d = 64;
-constexpr cl_uint kAllApronRegions = 0x7FFFFFFu;  // every region of a brick's samples (kernels/sdf_apron.h)
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 
@@ -360,7 +359,8 @@ private:
     SdfBrick pseudo_{};  // level -1: one parent whose single child (branching 1) is the root
     std::unique_ptr<ocl::Buffer<SdfBrick>> parents_;  // the current level's parents, then its bricks
     std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
-    std::unique_ptr<ocl::Buffer<cl_uint>> owned_;  // per leaf: the sample regions it evaluates (kernels/sdf_apron.h)
+    // Where leaves share aprons, per leaf: the sample regions it evaluates (kernels/sdf_apron.h).
+    std::unique_ptr<ocl::Buffer<cl_uint>> owned_;
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
     std::vector<std::uint64_t> list_entries_;                            // every level's list entries
@@ -581,7 +581,8 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
     const ApronSharing apron = share_aprons(leaf_count, share_edits);
-    ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), *owned_, origin_.x, origin_.y, origin_.z,
+    ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), owned_ ? *owned_ : empty_uints_, origin_.x,
+                  origin_.y, origin_.z,
                   static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
                   plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
     scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
@@ -595,19 +596,17 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
                       kGroup1d);
 }
 
-// Which regions of its samples each leaf evaluates (owned_): with sharing on, its interior and the
-// apron regions whose neighbour of the same level is not a leaf (brick_keys, brick_owned); else all.
-// Returns the neighbours and the copy kernel that brick_apron.cl runs after the evaluation.
+// With sharing on, which regions of its samples each leaf evaluates (owned_): its interior and the
+// apron regions whose neighbour of the same level is not a leaf (brick_keys, brick_owned). Returns
+// the neighbours and the copy kernel that brick_apron.cl runs after the evaluation. With sharing off
+// every leaf evaluates all its samples, and there is nothing to find: owned_ stays empty.
 BrickBuilder::Job::ApronSharing BrickBuilder::Job::share_aprons(std::uint64_t leaf_count, int share_edits) {
-    const bool share = share_edits > 0;
+    ApronSharing a{ocl::Buffer<cl_uint>(d_, 0), std::nullopt, std::nullopt};
+    if (share_edits <= 0) return a;
     owned_ = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(d_, leaf_count, "the apron masks"));
-    ApronSharing a{allocate<cl_uint>(d_, share ? leaf_count * 27 : 0, "the apron neighbours"), std::nullopt, std::nullopt};
-    ocl::Buffer<cl_ulong> keys = allocate<cl_ulong>(d_, share ? leaf_count : 0, "the leaf keys");
+    a.neighbours = allocate<cl_uint>(d_, leaf_count * 27, "the apron neighbours");
+    ocl::Buffer<cl_ulong> keys = allocate<cl_ulong>(d_, leaf_count, "the leaf keys");
     scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, owned_->bytes() + a.neighbours.bytes() + keys.bytes());
-    if (!share) {
-        owned_->write(std::vector<cl_uint>(leaf_count, kAllApronRegions));
-        return a;
-    }
     a.program.emplace(ocl::build_program(d_, "brick_apron.cl", s_.layout().defines()));
     const ocl::Kernel keys_k = ocl::make_kernel(*a.program, "brick_keys"), owned = ocl::make_kernel(*a.program, "brick_owned");
     const auto count = static_cast<cl_uint>(leaf_count), finest = static_cast<cl_uint>(plan_.finest());
@@ -696,13 +695,13 @@ void BrickBuilder::Job::report_flops(std::uint64_t leaf_count) {
     std::uint64_t entries = 0, evaluations = 0;
     if (leaf_count > 0) {
         const std::vector<cl_uint> lists = parent_lists_->read();
-        const std::vector<cl_uint> owned = owned_->read();
+        const std::vector<cl_uint> owned = owned_ ? owned_->read() : std::vector<cl_uint>{};
         const std::vector<SdfBrick> bricks = leaves().read();
         for (std::size_t i = 0; i < bricks.size(); ++i) {
             const SdfBrick& b = bricks[i];
             double brick_flops = 0.0;
             for (std::uint32_t j = 0; j < b.edit_count; ++j) brick_flops += flops[lists[b.edit_offset + j]];
-            const std::size_t samples = layout.owned_samples(owned[i]);
+            const std::size_t samples = owned.empty() ? layout.samples_per_brick() : layout.owned_samples(owned[i]);
             entry_flops += brick_flops;
             evaluate_flops += brick_flops * static_cast<double>(samples);
             entries += b.edit_count;
