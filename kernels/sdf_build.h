@@ -68,18 +68,34 @@ inline int3 sdf_morton_child(uint i, uint log2b) {
     return c;
 }
 
+/* The value at a point c from which an add or subtract edit (or, negated, an intersect edit) cannot
+ * change F_C anywhere within distance radius of c: the edit is 1-Lipschitz, so its value anywhere in
+ * that ball is within radius of its value at c. margin covers the rounding of the values here and at
+ * the other points, relative to the coordinates' magnitude and the edit's reach (its largest
+ * translation plus its scaled size). */
+inline float sdf_reach_limit(float reach, float blend, float clamp_c, float radius, float magnitude) {
+    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+    return clamp_c + blend + radius + margin;
+}
+
 /* Whether edit e may change F_C anywhere within distance radius of point c, where v is its value at
- * c (1-Lipschitz: the value anywhere in that ball is within radius of v). margin covers the rounding
- * of v here and at the other points (relative to the coordinates' magnitude). NaN keeps the edit. */
+ * c. NaN keeps the edit. */
 inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
     const float t = e->transform.translation[0], u = e->transform.translation[1], w = e->transform.translation[2];
     const float reach = fmax(fmax(fabs(t), fabs(u)), fabs(w)) +
                         e->transform.scale * fmax(fmax(fabs(e->params[0]), fabs(e->params[1])),
                                                   fmax(fabs(e->params[2]), fabs(e->params[3])));
-    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
-    const float limit = clamp_c + e->blend + radius + margin;
+    const float limit = sdf_reach_limit(reach, e->blend, clamp_c, radius, magnitude);
     if (e->op == SDF_OP_INTERSECT) return !(v <= -limit);
     return !(v >= limit);
+}
+
+/* sdf_reach_limit for a prepared edit. */
+inline float sdf_prepared_reach_limit(const SdfPrepared* e, float clamp_c, float radius, float magnitude) {
+    const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
+                        fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
+                            e->inv_scale;
+    return sdf_reach_limit(reach, e->blend, clamp_c, radius, magnitude);
 }
 
 #endif /* SDFBRICK_SDF_BUILD_H */

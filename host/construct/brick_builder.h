@@ -43,6 +43,9 @@ struct BuildSettings {
     // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
     int eval_lanes = 0;
     bool cull = true;
+    // With culling on: the leaf evaluation tests each edit of a leaf's list against each octant of
+    // the leaf's samples and evaluates it only in the octants it can change (changes no bit).
+    bool octant_cull = true;
     // A leaf with at least this many edits copies the apron samples that lie in a neighbour leaf's
     // interior from it instead of evaluating them again (kernels/sdf_apron.h; changes no bit); a
     // shorter list costs less to evaluate than to share. 0: no leaf shares; -1: by device and build
