@@ -38,8 +38,10 @@ inline uint apron_owned_count(uint mask) {
     return n;
 }
 
-/* Per axis: the region code (0, 1, 2 for direction -1, 0, +1) of sample coordinate i. */
+/* Per axis: the region code (0, 1, 2 for direction -1, 0, +1) of sample coordinate i, the first
+ * sample of that code's range and its length. */
 inline uint apron_code(int i) { return i < APRON ? 0u : i < SAMPLES - APRON ? 1u : 2u; }
+inline uint apron_first(uint code) { return code == 0u ? 0u : code == 1u ? (uint)APRON : (uint)(SAMPLES - APRON); }
 
 inline int3 apron_sample(uint a) {
     return (int3)((int)(a % SAMPLES), (int)(a / SAMPLES % SAMPLES), (int)(a / (SAMPLES * SAMPLES)));
@@ -48,63 +50,28 @@ inline int3 apron_sample(uint a) {
 /* The region of sample (i, j, k). */
 inline uint apron_region_of(int3 q) { return apron_code(q.x) + 3u * apron_code(q.y) + 9u * apron_code(q.z); }
 
-/* Owned samples are numbered octant by octant (brick_evaluate.cl culls edits per octant, so a run of
- * consecutive owned samples should lie in as few octants as it can). The octant of sample (i, j, k) is
- * (i >= HALF) + 2 (j >= HALF) + 4 (k >= HALF), HALF = S / 2. A brick that owns every sample numbers
- * them with OCTANT_MAJOR_SAMPLE: octant by octant, x fastest inside each. */
-#define HALF (SAMPLES / 2)
-#define HALF3 (HALF * HALF * HALF)
-#define OCTANT_MAJOR_SAMPLE(c)                                                                            \
-    (((c) % HALF + ((c) / HALF3 & 1) * HALF) +                                                            \
-     SAMPLES * (((c) / HALF % HALF + ((c) / HALF3 >> 1 & 1) * HALF) +                                     \
-                SAMPLES * ((c) / (HALF * HALF) % HALF + ((c) / HALF3 >> 2) * HALF)))
-/* The octant of sample index a (an int or int vector: 0 or 1 per axis, as the type's comparisons
- * give -1 for true on vectors). */
-#define SAMPLE_OCTANT(a)                                                                                  \
-    ((((a) % SAMPLES >= HALF) & 1) | ((((a) / SAMPLES % SAMPLES >= HALF) & 1) << 1) |                     \
-     ((((a) / (SAMPLES * SAMPLES) >= HALF) & 1) << 2))
-
-/* A brick that shares samples splits each axis at APRON, HALF and S - APRON into four segments; the
- * 64 boxes they make each lie in one octant and one region. Boxes are numbered octant * 8 + the box's
- * place in its octant, and owned samples are numbered box by box in that order, x fastest inside
- * each box. */
-inline uint apron_segment(int i) { return (uint)(i >= APRON) + (uint)(i >= HALF) + (uint)(i >= SAMPLES - APRON); }
-inline int apron_segment_first(uint s) { return s == 0u ? 0 : s == 1u ? APRON : s == 2u ? HALF : SAMPLES - APRON; }
-inline uint apron_segment_length(uint s) {
-    return s == 0u || s == 3u ? (uint)APRON : s == 1u ? (uint)(HALF - APRON) : (uint)(SAMPLES - APRON - HALF);
-}
-inline uint apron_segment_code(uint s) { return s == 0u ? 0u : s == 3u ? 2u : 1u; }
-/* The box number of segments (sx, sy, sz). */
-inline uint apron_box(uint sx, uint sy, uint sz) {
-    return ((sx >> 1) | (sy >> 1) << 1 | (sz >> 1) << 2) * 8u + ((sx & 1u) | (sy & 1u) << 1 | (sz & 1u) << 2);
-}
-/* Owned samples of box number b under mask (0 when its region is not owned). */
-inline uint apron_box_owned(uint b, uint mask) {
-    const uint o = b >> 3, p = b & 7u;
-    const uint sx = (o & 1u) << 1 | (p & 1u), sy = (o & 2u) | (p >> 1 & 1u), sz = (o >> 2) << 1 | (p >> 2);
-    const uint r = apron_segment_code(sx) + 3u * apron_segment_code(sy) + 9u * apron_segment_code(sz);
-    return (mask >> r) & 1u ? apron_segment_length(sx) * apron_segment_length(sy) * apron_segment_length(sz) : 0u;
-}
+/* Owned samples are numbered interior first (x fastest), then the other owned regions in region
+ * order (x fastest inside each). */
+#define APRON_INTERIOR_COUNT (INTERIOR * INTERIOR * INTERIOR)
 
 /* The owned samples of mask in that order, as a table: order[c] = the sample index of the c-th owned
- * sample (c < apron_owned_count(mask)); offsets (64 entries) is scratch. Every work-item of the group
- * calls it (it has barriers). */
+ * sample (c < apron_owned_count(mask)); offsets (27 entries) is scratch. Every work-item of the group calls it (it has barriers). */
 inline void apron_owned_order(uint mask, __local uint* offsets, __local ushort* order) {
     const uint lid = get_local_id(0), wg = get_local_size(0);
-    for (uint b = lid; b < 64u; b += wg) {
-        uint o = 0;
-        for (uint p = 0; p < b; ++p) o += apron_box_owned(p, mask);
-        offsets[b] = o;
+    for (uint r = lid; r < 27u; r += wg) {
+        uint o = APRON_INTERIOR_COUNT;
+        for (uint p = 0; p < r; ++p)
+            if (p != APRON_INTERIOR_REGION && ((mask >> p) & 1u)) o += apron_region_size[p];
+        offsets[r] = r == APRON_INTERIOR_REGION ? 0u : o;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     for (uint a = lid; a < SAMPLE_COUNT; a += wg) {
         const int3 q = apron_sample(a);
-        const uint sx = apron_segment(q.x), sy = apron_segment(q.y), sz = apron_segment(q.z);
-        const uint r = apron_segment_code(sx) + 3u * apron_segment_code(sy) + 9u * apron_segment_code(sz);
+        const uint cx = apron_code(q.x), cy = apron_code(q.y), cz = apron_code(q.z);
+        const uint r = cx + 3u * cy + 9u * cz;
         if ((mask >> r) & 1u)
-            order[offsets[apron_box(sx, sy, sz)] + (uint)(q.x - apron_segment_first(sx)) +
-                  apron_segment_length(sx) * ((uint)(q.y - apron_segment_first(sy)) +
-                                              apron_segment_length(sy) * (uint)(q.z - apron_segment_first(sz)))] = (ushort)a;
+            order[offsets[r] + ((uint)q.x - apron_first(cx)) +
+                  APRON_EXTENT(cx) * (((uint)q.y - apron_first(cy)) + APRON_EXTENT(cy) * ((uint)q.z - apron_first(cz)))] = (ushort)a;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
 }

@@ -31,6 +31,41 @@ inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float 
 }
 #endif
 
+#if SDF_LANES == 1
+/* Spheres and capsules. Their value is (sqrt(d2) - r) s for the squared distance d2 of the point
+ * from the centre (point or segment) in the edit's frame and its output scale s. An add changes the
+ * fold F only where that value is below F + k, a subtract only where it is below k - F; beyond, the
+ * combine returns F (an add: min(F, v) - 0; a subtract: max(F, -v) + 0, which turns -0 into +0, as
+ * the skip does). So a point where d2 s^2 >= bound^2, bound = max(+-F + offset, 0) with offset =
+ * k + r s plus 2^-16 of (C + k + |r| s) for the rounding of every step, skips the square root and
+ * the combine and keeps bit for bit the F that evaluating gives. */
+inline float sdf_radial_offset(const SdfPrepared* e, uint prim, float clamp_c) {
+    const float rs = (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0]) * e->out_scale;
+    return e->blend + rs + (clamp_c + e->blend + fabs(rs)) * 1.52587890625e-05f;
+}
+inline float sdf_radial_bound(uint op, float field, float offset) {
+    return fmax((op == SDF_OP_ADD ? field : -field) + offset, 0.0f);
+}
+
+/* sdf_fold_of for a sphere or capsule (prim) edit of operation add or subtract (op), skipping where
+ * it cannot change the fold. */
+inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float field, float x, float y, float z,
+                             float clamp_c, float offset) {
+    float dx = x - e->t[0], dy = y - e->t[1], dz = z - e->t[2];
+    if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, &dx, &dy, &dz);
+    dx = dx * e->inv_scale; /* as sdf_edit_value_of */
+    dy = dy * e->inv_scale;
+    dz = dz * e->inv_scale;
+    if (prim == SDF_PRIM_CAPSULE) dy = dy - clamp(dy, -e->prm[0], e->prm[0]);
+    const float d2 = dx * dx + dy * dy + dz * dz; /* sdf_norm3's sum */
+    const float bound = sdf_radial_bound(op, field, offset);
+    if (d2 * e->out_scale * e->out_scale >= bound * bound)
+        return op == SDF_OP_ADD || !(e->blend > 0.0f) ? field : field + 0.0f;
+    const float v = (sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0])) * e->out_scale;
+    return fmin(fmax(sdf_combine_of(e, op, field, v), -clamp_c), clamp_c);
+}
+#endif
+
 /* How far the fold saturated at [-S, S] (S > C) may sit from F_C, for smooth edit e whose value at
  * the centre of a cell is v, over points within radius of that centre: k/4 when e's smooth zone can
  * meet the saturation level +-C there (an add or subtract blends with F = C where |v - C| < k, an
@@ -68,34 +103,18 @@ inline int3 sdf_morton_child(uint i, uint log2b) {
     return c;
 }
 
-/* The value at a point c from which an add or subtract edit (or, negated, an intersect edit) cannot
- * change F_C anywhere within distance radius of c: the edit is 1-Lipschitz, so its value anywhere in
- * that ball is within radius of its value at c. margin covers the rounding of the values here and at
- * the other points, relative to the coordinates' magnitude and the edit's reach (its largest
- * translation plus its scaled size). */
-inline float sdf_reach_limit(float reach, float blend, float clamp_c, float radius, float magnitude) {
-    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
-    return clamp_c + blend + radius + margin;
-}
-
 /* Whether edit e may change F_C anywhere within distance radius of point c, where v is its value at
- * c. NaN keeps the edit. */
+ * c (1-Lipschitz: the value anywhere in that ball is within radius of v). margin covers the rounding
+ * of v here and at the other points (relative to the coordinates' magnitude). NaN keeps the edit. */
 inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
     const float t = e->transform.translation[0], u = e->transform.translation[1], w = e->transform.translation[2];
     const float reach = fmax(fmax(fabs(t), fabs(u)), fabs(w)) +
                         e->transform.scale * fmax(fmax(fabs(e->params[0]), fabs(e->params[1])),
                                                   fmax(fabs(e->params[2]), fabs(e->params[3])));
-    const float limit = sdf_reach_limit(reach, e->blend, clamp_c, radius, magnitude);
+    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+    const float limit = clamp_c + e->blend + radius + margin;
     if (e->op == SDF_OP_INTERSECT) return !(v <= -limit);
     return !(v >= limit);
-}
-
-/* sdf_reach_limit for a prepared edit. */
-inline float sdf_prepared_reach_limit(const SdfPrepared* e, float clamp_c, float radius, float magnitude) {
-    const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
-                        fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
-                            e->inv_scale;
-    return sdf_reach_limit(reach, e->blend, clamp_c, radius, magnitude);
 }
 
 #endif /* SDFBRICK_SDF_BUILD_H */

@@ -36,12 +36,12 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation: 1, 2, 4, 8 or 16 (default: "
                                               "the native float width on CPU devices, else 1; changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
-    cmd->add_flag("!--no-octant-cull", s.octant_cull,
-                  "evaluate each edit of a leaf's list at all its samples, not only in the octants it reaches "
-                  "(changes no bit)");
+    cmd->add_flag("!--no-skip-far", s.skip_far,
+                  "the leaf evaluation evaluates sphere and capsule edits at every sample, also where they cannot "
+                  "change the field (must give the same pool)");
     cmd->add_option("--apron-share-edits", s.apron_share_edits,
                     "a leaf with at least this many edits copies the apron samples its neighbours evaluate instead of "
-                    "evaluating them (0: none does; default: 16 on GPUs where the leaves' mean list is that long, else none; changes no bit)");
+                    "evaluating them (default 0: none does; changes no bit)");
     cmd->add_flag("--dependencies", s.dependencies, "add the dependencies of kept smooth edits to every edit list");
     add_setting_flags(cmd, {{"leaf_size", "--brick-size"}, {"tolerance", "--tolerance"},
                             {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
@@ -86,7 +86,7 @@ nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
             {"chunk", s.chunk}, {"group", s.eval_group}, {"lanes", s.eval_lanes}, {"cull", s.cull},
-            {"octant_cull", s.octant_cull}, {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
+            {"skip_far", s.skip_far}, {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
             {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 

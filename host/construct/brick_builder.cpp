@@ -30,9 +30,8 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (levels < 0 || levels > 31)
         throw SettingError("levels", fmt::format("levels must lie in 1..31 (0 = automatic), got {}", levels));
     if (chunk < 16 || chunk > 256) throw SettingError("chunk", fmt::format("chunk must lie in 16..256, got {}", chunk));
-    if (apron_share_edits < -1)
-        throw SettingError("apron_share_edits",
-                           fmt::format("apron_share_edits must be 0 or more (-1: by device), got {}", apron_share_edits));
+    if (apron_share_edits < 0)
+        throw SettingError("apron_share_edits", fmt::format("apron_share_edits must be 0 or more, got {}", apron_share_edits));
     if (eval_group < 1 || eval_group > 1024 || (eval_group & (eval_group - 1)) != 0)
         throw SettingError("eval_group", fmt::format("eval_group must be a power of two in 1..1024, got {}", eval_group));
     if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
@@ -48,7 +47,7 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
         throw SettingError("tolerance", fmt::format("tolerance must be a positive number, got {}", tolerance));
     if (!(max_leaf_size >= 0.0) || !std::isfinite(max_leaf_size))
         throw SettingError("max_leaf_size", fmt::format("max_leaf_size must be a positive number, got {}", max_leaf_size));
-    const std::uint64_t local = static_cast<std::uint64_t>(chunk) * (sizeof(SdfEdit) + sizeof(cl_uint)) + 64 * sizeof(cl_uint);
+    const std::uint64_t local = static_cast<std::uint64_t>(chunk) * sizeof(SdfEdit) + 64 * sizeof(cl_uint);
     if (local > device.local_mem_bytes)
         throw SettingError("chunk", fmt::format("chunk {} needs {} bytes of local memory; {} has {}", chunk, local,
                                                 device.name, device.local_mem_bytes));
@@ -58,11 +57,6 @@ int BuildSettings::lanes(const ocl::DeviceInfo& device) const {
     if (eval_lanes != 0) return eval_lanes;
     const std::uint32_t w = device.native_float_width;
     return device.type == "cpu" && w >= 2 && w <= 16 && (w & (w - 1)) == 0 ? static_cast<int>(w) : 1;
-}
-
-int BuildSettings::share_edits(const ocl::DeviceInfo& device, double mean_list) const {
-    if (apron_share_edits >= 0) return apron_share_edits;
-    return device.type == "cpu" || mean_list < kLongList ? 0 : kLongList;
 }
 
 double auto_leaf_size(double tolerance, const BrickLayout& layout) {
@@ -361,8 +355,6 @@ private:
     std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
     // Where leaves share aprons, per leaf: the sample regions it evaluates (kernels/sdf_apron.h).
     std::unique_ptr<ocl::Buffer<cl_uint>> owned_;
-    // With octant culling, per leaf list entry: the octants of the leaf's samples the edit reaches.
-    std::unique_ptr<ocl::Buffer<cl_uchar>> octant_reach_;
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
     std::vector<std::uint64_t> list_entries_;                            // every level's list entries
@@ -573,28 +565,26 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
     const double mean_list = s_.cull ? static_cast<double>(parent_lists_->size()) / static_cast<double>(leaf_count)
                                      : static_cast<double>(edits_host_.size());
-    const int share_edits = s_.share_edits(d_.info(), mean_list);
-    const bool octant_cull = s_.cull && s_.octant_cull;
+    const int share_edits = s_.apron_share_edits;
+    // The skip's code costs registers: only a geometry with sphere or capsule adds or subtracts has it.
+    const bool skip_far = s_.skip_far && std::any_of(edits_host_.begin(), edits_host_.end(), [](const SdfEdit& e) {
+        return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
+               (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
+    });
     const ocl::Program program = ocl::build_program(
         d_, "brick_evaluate.cl",
-        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DOCTANT_CULL={}",
-                    layout.defines(), lanes, per_item, mean_list >= BuildSettings::kLongList ? 1 : 0,
-                    share_edits > 0 ? 1 : 0, octant_cull ? 1 : 0));
+        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={}", layout.defines(),
+                    lanes, per_item, mean_list >= BuildSettings::kLongList ? 1 : 0, share_edits > 0 ? 1 : 0,
+                    skip_far ? 1 : 0));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
     const ApronSharing apron = share_aprons(leaf_count, share_edits);
-    octant_reach_ = std::make_unique<ocl::Buffer<cl_uchar>>(
-        allocate<cl_uchar>(d_, octant_cull ? parent_lists_->size() : 0, "the octants each list entry reaches"));
-    // Half the diagonal of an octant's samples (a cube of S/2 samples a side), with a margin.
-    const float octant_radius = float_up(std::sqrt(3.0) * 0.5 * (layout.samples / 2 - 1) * plan_.voxel * (1.0 + 1e-6));
     ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), owned_ ? *owned_ : empty_uints_, origin_.x,
-                  origin_.y, origin_.z, static_cast<float>(plan_.voxel), level_clamp, plan_.band,
-                  layout.quantise_scale(plan_.band), finest, plan_.log2b, octant_radius,
-                  static_cast<float>(plan_.magnitude), *out_.pool, *octant_reach_, ocl::LocalMemory{chunk_bytes()},
-                  ocl::LocalMemory{static_cast<std::size_t>(s_.chunk) * sizeof(cl_uint)},
-                  static_cast<cl_uint>(s_.chunk));
+                  origin_.y, origin_.z,
+                  static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
+                  plan_.log2b, *out_.pool, ocl::LocalMemory{chunk_bytes()}, static_cast<cl_uint>(s_.chunk));
     scheduler_.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
     if (apron.copy) {
         ocl::set_args(apron.copy->get(), *owned_, apron.neighbours, *out_.pool);
@@ -695,9 +685,8 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["scratch"] = scratch_bytes_;
 }
 
-// Evaluate's work from the leaves' lists, owned samples and (with octant culling) the octants each
-// entry reaches, read back: an entry costs its edit at the owned samples of those octants, plus the
-// eight octant tests. The FLOPs of count and cull from the mean FLOPs of a leaf list entry.
+// Evaluate's work from the leaves' lists and owned samples (read back), and the FLOPs of count and
+// cull from the mean FLOPs of a leaf list entry.
 void BrickBuilder::Job::report_flops(std::uint64_t leaf_count) {
     std::vector<double> flops(edits_host_.size());
     for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = edit_flops(edits_host_[i]);
@@ -707,26 +696,20 @@ void BrickBuilder::Job::report_flops(std::uint64_t leaf_count) {
     if (leaf_count > 0) {
         const std::vector<cl_uint> lists = parent_lists_->read();
         const std::vector<cl_uint> owned = owned_ ? owned_->read() : std::vector<cl_uint>{};
-        const std::vector<cl_uchar> reach = octant_reach_->read();
         const std::vector<SdfBrick> bricks = leaves().read();
-        const std::uint32_t tests = reach.empty() ? 0u : 8u;
         for (std::size_t i = 0; i < bricks.size(); ++i) {
             const SdfBrick& b = bricks[i];
-            const auto octants = layout.owned_samples_by_octant(owned.empty() ? BrickLayout::kAllRegions : owned[i]);
-            for (std::size_t entry = b.edit_offset; entry < b.edit_offset + b.edit_count; ++entry) {
-                std::uint64_t samples = tests;
-                for (std::size_t o = 0; o < 8; ++o)
-                    if (reach.empty() || ((reach[entry] >> o) & 1u)) samples += octants[o];
-                entry_flops += flops[lists[entry]];
-                evaluate_flops += flops[lists[entry]] * static_cast<double>(samples);
-                evaluations += samples;
-            }
+            double brick_flops = 0.0;
+            for (std::uint32_t j = 0; j < b.edit_count; ++j) brick_flops += flops[lists[b.edit_offset + j]];
+            const std::size_t samples = owned.empty() ? layout.samples_per_brick() : layout.owned_samples(owned[i]);
+            entry_flops += brick_flops;
+            evaluate_flops += brick_flops * static_cast<double>(samples);
             entries += b.edit_count;
+            evaluations += b.edit_count * samples;
         }
     }
     add_work(measure::Stage::evaluate, evaluations,
-             leaf_count * (sizeof(SdfBrick) + sizeof(cl_uint) + layout.brick_bytes()) + entries * kEntryBytes +
-                 octant_reach_->bytes());
+             leaf_count * (sizeof(SdfBrick) + sizeof(cl_uint) + layout.brick_bytes()) + entries * kEntryBytes);
     const double mean = entries > 0 ? entry_flops / static_cast<double>(entries) : 0.0;
     for (auto& [stage, w] : out_.work) w.flop = static_cast<double>(w.evaluations) * mean;
     out_.work[measure::Stage::evaluate].flop = evaluate_flops;

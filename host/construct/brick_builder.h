@@ -43,14 +43,15 @@ struct BuildSettings {
     // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
     int eval_lanes = 0;
     bool cull = true;
-    // With culling on: the leaf evaluation tests each edit of a leaf's list against each octant of
-    // the leaf's samples and evaluates it only in the octants it can change (changes no bit).
-    bool octant_cull = true;
+    // In the leaf evaluation with one lane (GPUs), sphere and capsule edits (adds and subtracts) skip
+    // the samples where they cannot change the fold, found from the running value before the square
+    // root (kernels/sdf_build.h: sdf_fold_radial). Changes no bit.
+    bool skip_far = true;
     // A leaf with at least this many edits copies the apron samples that lie in a neighbour leaf's
-    // interior from it instead of evaluating them again (kernels/sdf_apron.h; changes no bit); a
-    // shorter list costs less to evaluate than to share. 0: no leaf shares; -1: by device and build
-    // (share_edits()).
-    int apron_share_edits = -1;
+    // interior from it instead of evaluating them again (kernels/sdf_apron.h; changes no bit). 0: no
+    // leaf shares. Off by default: on an H200 no scene measured builds faster with it since the
+    // evaluation skips far edits (docs/performance.md).
+    int apron_share_edits = 0;
     bool dependencies = false;    // add the dependencies of kept smooth edits to every list
     // Adaptive leaves (docs/construction.md, "Adaptive leaves"): with tolerance > 0, leaf_size is the
     // finest brick, and a brick of a coarser level whose samples reproduce the field within
@@ -61,13 +62,8 @@ struct BuildSettings {
     bool adaptive() const { return tolerance > 0.0; }
     BrickLayout layout() const { return {samples, format}; }
     int lanes(const ocl::DeviceInfo& device) const;
-    // apron_share_edits, or where it is -1: none on CPU devices (their SIMD lanes evaluate the aprons
-    // for less than finding and copying them costs) and none where the leaves' lists are short (a
-    // mean below kLongList edits: the few leaves that could share would not pay for the search),
-    // else kLongList.
-    int share_edits(const ocl::DeviceInfo& device, double mean_list) const;
-    // A mean leaf list this long pays for sharing aprons and for branching on the primitive once per
-    // edit (kernels/brick_evaluate.cl; measured on an H200 between rain's 8 and drops' 23 edits).
+    // A mean leaf list this long pays for branching on the primitive once per edit
+    // (kernels/brick_evaluate.cl; measured on an H200 between rain's 8 and drops' 23 edits).
     static constexpr int kLongList = 16;
     double voxel() const { return leaf_size / layout().interior(); }
     // Throws SettingError naming the setting ("chunk") for a value out of range.

@@ -1,7 +1,5 @@
 #include "construct/brick_layout.h"
 
-#include <algorithm>
-
 #include <fmt/format.h>
 
 namespace sdfbrick::construct {
@@ -26,21 +24,15 @@ std::size_t BrickLayout::samples_per_brick() const {
     return static_cast<std::size_t>(samples) * static_cast<std::size_t>(samples) * static_cast<std::size_t>(samples);
 }
 
-std::array<std::size_t, 8> BrickLayout::owned_samples_by_octant(std::uint32_t mask) const {
-    // length[h][c]: samples of one axis in half h (below or above S/2) with region code c (0: the
-    // low apron, 1: the interior, 2: the high apron).
-    const int half = samples / 2, bounds[4] = {0, apron(), samples - apron(), samples};
-    std::size_t length[2][3];
-    for (int h = 0; h < 2; ++h)
-        for (int c = 0; c < 3; ++c)
-            length[h][c] = static_cast<std::size_t>(
-                std::max(0, std::min(bounds[c + 1], (h + 1) * half) - std::max(bounds[c], h * half)));
-    std::array<std::size_t, 8> n{};
-    for (int o = 0; o < 8; ++o)
-        for (int r = 0; r < 27; ++r)
-            if ((mask >> r) & 1u)
-                n[static_cast<std::size_t>(o)] += length[o & 1][r % 3] * length[(o >> 1) & 1][r / 3 % 3] *
-                                                  length[o >> 2][r / 9];
+std::size_t BrickLayout::owned_samples(std::uint32_t mask) const {
+    std::size_t n = 0;
+    for (int r = 0; r < 27; ++r) {
+        if (((mask >> r) & 1u) == 0) continue;
+        std::size_t size = 1;
+        for (int axis = 0, code = r; axis < 3; ++axis, code /= 3)
+            size *= static_cast<std::size_t>(code % 3 == 1 ? interior() : apron());
+        n += size;
+    }
     return n;
 }
 

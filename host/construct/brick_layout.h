@@ -3,9 +3,7 @@
 // construction and tracing kernels the same (kernels/sdf_format.h, brick_evaluate.cl, sdf_trace.h).
 #pragma once
 
-#include <array>
 #include <cstddef>
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -23,11 +21,9 @@ struct BrickLayout {
     int apron() const { return samples == 10 ? 2 : 1; }
     int interior() const { return samples - 2 * apron(); }  // voxels per brick side: 6 in both layouts
     std::size_t samples_per_brick() const;                  // samples^3
-    // The samples a brick evaluates itself when it owns the apron regions of mask (bit r = (dx + 1) +
-    // 3 (dy + 1) + 9 (dz + 1) for the region towards direction d, bit 13 the interior;
-    // kernels/sdf_apron.h), in each octant of the brick: octant (i >= S/2) + 2 (j >= S/2) + 4 (k >= S/2).
-    std::array<std::size_t, 8> owned_samples_by_octant(std::uint32_t mask) const;
-    static constexpr std::uint32_t kAllRegions = 0x7FFFFFFu;
+    // Samples a brick evaluates itself when it owns the apron regions of mask: bit r = (dx + 1) +
+    // 3 (dy + 1) + 9 (dz + 1) for the region towards direction d, bit 13 the interior (kernels/sdf_apron.h).
+    std::size_t owned_samples(std::uint32_t mask) const;
     std::size_t sample_bytes() const;                       // 1, 2 or 4
     std::size_t brick_bytes() const { return samples_per_brick() * sample_bytes(); }
     // The snorm range: a stored s means s * band / levels(); 127, 32767, or 1 for float (not scaled).

@@ -66,6 +66,40 @@ Geometry mixed_geometry() {
     return g;
 }
 
+// A block carved by smooth and hard subtractions, then cut by an intersection: long lists in which
+// every edit after the first raises the fold.
+Geometry carved_geometry() {
+    Geometry g;
+    g.name = "carved";
+    g.edits = {make_edit(Primitive::Box, {0.9, 0.7, 0.8, 0}, {0.0, 0.0, 0.0}, Op::Add, 0.0, 0.3)};
+    for (int i = 0; i < 24; ++i) {
+        const double a = 0.7 * i, r = 0.15 + 0.02 * (i % 5);
+        g.edits.push_back(make_edit(i % 3 == 0 ? Primitive::Box : Primitive::Sphere, {r, 0.8 * r, r, 0},
+                                    {0.8 * std::cos(a), 0.6 * std::sin(1.3 * a), 0.7 * std::cos(0.9 * a)}, Op::Subtract,
+                                    i % 2 == 0 ? 0.12 : 0.0, a));
+    }
+    g.edits.push_back(make_edit(Primitive::Sphere, {1.05, 0, 0, 0}, {0.0, 0.0, 0.0}, Op::Intersect, 0.1));
+    return g;
+}
+
+// Rotated, scaled capsules and spheres, added and then carved by smooth and hard subtractions, all
+// within reach of each other: lists long enough (BuildSettings::kLongList) that the evaluation
+// branches once per edit.
+Geometry capsules_geometry() {
+    Geometry g;
+    g.name = "capsules";
+    for (int i = 0; i < 40; ++i) {
+        const double a = 0.9 * i, r = 0.06 + 0.015 * (i % 4);
+        const glm::dvec3 at{0.6 * std::cos(a), 0.5 * std::sin(1.7 * a), 0.6 * std::sin(0.8 * a)};
+        const Op op = i < 28 ? Op::Add : Op::Subtract;
+        const double blend = i % 3 == 2 ? 0.0 : 0.2 + 0.05 * (i % 2);
+        g.edits.push_back(i % 5 == 4 ? make_edit(Primitive::Sphere, {1.5 * r, 0, 0, 0}, at, op, blend)
+                                     : make_edit(Primitive::Capsule, {0.1 + 0.05 * (i % 5), r, 0, 0}, at, op, blend, a,
+                                                 0.8 + 0.1 * (i % 6)));
+    }
+    return g;
+}
+
 Geometry shipped_geometry(const char* name) {
     const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
     return scene_at(s, s.time).geometries.at(0);
@@ -167,19 +201,23 @@ std::string digest(const Geometry& g, const BuildSettings& s) {
     return construct::output_digest(b, s);
 }
 
+// Culling changes no bit: on, off (every edit at every sample) and with dependencies, in both sample
+// layouts.
 TEST(ConstructBuild, CullingOnAndOffAreBitIdentical) {
-    for (const Geometry& g : {mixed_geometry(), drops_subset(64), shipped_geometry("spheres")}) {
-        for (BrickFormat f : {BrickFormat::int8, BrickFormat::float32}) {
-            BuildSettings on = settings(0.125, f), off = on, deps = on;
+    for (const Geometry& g : {mixed_geometry(), drops_subset(64), shipped_geometry("spheres"), carved_geometry()}) {
+        for (BuildSettings on : {settings(0.125), settings(0.125, BrickFormat::float32),
+                                 settings(0.125, BrickFormat::int16, 10)}) {
+            BuildSettings off = on, deps = on;
             off.cull = false;
             deps.dependencies = true;
             const GeometryBuild culled = builder().build(g, on, test::recorder());
             const GeometryBuild full = builder().build(g, off, test::recorder());
-            EXPECT_EQ(construct::output_digest(culled, on), construct::output_digest(full, off)) << g.name;
-            EXPECT_EQ(digest(g, deps), construct::output_digest(full, off)) << g.name << " with dependencies";
+            const std::string where = fmt::format("{}, {} samples, format {}", g.name, on.samples, to_string(on.format));
+            EXPECT_EQ(construct::output_digest(culled, on), construct::output_digest(full, off)) << where;
+            EXPECT_EQ(digest(g, deps), construct::output_digest(full, off)) << where << " with dependencies";
             EXPECT_EQ(culled.leaf_count, full.leaf_count);
             if (g.edits.size() > 4) {
-                EXPECT_LT(culled.edits_per_leaf_mean, 0.7 * full.edits_per_leaf_mean) << g.name;
+                EXPECT_LT(culled.edits_per_leaf_mean, 0.7 * full.edits_per_leaf_mean) << where;
             }
         }
     }
@@ -262,6 +300,33 @@ TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
     check_levels_follow_surface(drops_subset(48), settings(0.125));
 }
 
+// Skipping the points where a sphere or capsule edit cannot change the fold (BuildSettings::skip_far:
+// the count stage, and the evaluation with one lane) changes no bit: adds and subtracts, smooth and
+// hard, rotated and scaled, both sample layouts, int8 and float (where the sign of a zero shows),
+// with and without shared aprons, with one lane and with the device's.
+TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
+    Geometry drops = drops_subset(160), carved = carved_geometry();
+    for (Edit& e : drops.edits) e.transform.translation *= 0.3;  // the drops closer together
+    for (Edit& e : carved.edits) e.blend *= 3.0;
+    for (const Geometry& g : {drops, carved, capsules_geometry()}) {
+        for (BuildSettings s : {settings(0.125), settings(0.125, BrickFormat::float32, 10)}) {
+            BuildSettings all = s;
+            all.skip_far = false;
+            const GeometryBuild full = builder().build(g, all, test::recorder());
+            for (auto [lanes, share] : {std::pair{1, 0}, {1, 1}, {0, 0}}) {
+                s.eval_lanes = lanes;
+                s.apron_share_edits = share;
+                const GeometryBuild b = builder().build(g, s, test::recorder());
+                const std::string where =
+                    fmt::format("{}, {} samples, lanes {}, sharing from {}", g.name, s.samples, lanes, share);
+                EXPECT_EQ(construct::list_digest(b), construct::list_digest(full)) << where;
+                EXPECT_EQ(construct::output_digest(b, s), construct::output_digest(full, all)) << where;
+                EXPECT_GE(b.edits_per_leaf_mean, BuildSettings::kLongList) << where;
+            }
+        }
+    }
+}
+
 // Edit evaluations of a build's leaves where each leaf with at least share_edits edits evaluates its
 // 6^3 interior and every apron sample (8^3 samples) that no leaf of its level beside it holds in its
 // interior (a face neighbour holds 36 of them, an edge neighbour 6, a corner neighbour 1), and every
@@ -314,7 +379,7 @@ TEST(ConstructBuild, SharedApronsDoNotChangeTheOutput) {
 TEST(ConstructBuild, LevelsAndWorkAreReported) {
     measure::Scheduler scheduler(test::device());
     BuildSettings s = settings(0.125);
-    s.apron_share_edits = 4;  // as GPUs do (CPU devices share none by default)
+    s.apron_share_edits = 4;
     const GeometryBuild b = builder().build(drops_subset(64), s, scheduler);
     ASSERT_EQ(b.level_reports.size(), static_cast<std::size_t>(b.levels));
     EXPECT_EQ(b.level_reports.back().bricks, b.leaf_count);
