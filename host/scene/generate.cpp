@@ -15,8 +15,8 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 22> kNames = {
-    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt",
+constexpr std::array<std::string_view, 23> kNames = {
+    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt", "rubble",
     // The stability atlas's hard cases (docs/stability.md), one failure mode each.
     "stability/grazing_plane", "stability/grazing_cylinder", "stability/sub_voxel", "stability/blend_tiny",
     "stability/blend_huge", "stability/ellipsoid", "stability/menger6", "stability/instance_stack",
@@ -283,6 +283,34 @@ Scene sculpt(Rng& rng) {
     return finish("sculpt", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.0, 30.0, 20.0));
 }
 
+// drops' long lists without a sphere: 1024 smoothly blended, rotated boxes, round boxes, tori and
+// ellipsoids in the same volume (the evaluation skips far spheres and capsules, not these).
+Scene rubble(Rng& rng) {
+    Geometry g;
+    for (int i = 0; i < 1024; ++i) {
+        const glm::dvec3 pos = rng.in_box(glm::dvec3(-3.2), glm::dvec3(3.2));
+        const double s = rng.uniform(0.14, 0.26);
+        Edit e;
+        switch (i % 4) {
+            case 0: {
+                const glm::dvec3 b{s * rng.uniform(0.6, 1.2), s * rng.uniform(0.6, 1.2), s * rng.uniform(0.6, 1.2)};
+                e = make_edit(Primitive::Box, {b.x, b.y, b.z, 0}, pos);
+                break;
+            }
+            case 1: e = make_edit(Primitive::RoundBox, {s, s, s, 0.3 * s}, pos); break;
+            case 2: e = make_edit(Primitive::Torus, {s, 0.35 * s, 0, 0}, pos); break;
+            default: {
+                const glm::dvec3 r{s * rng.uniform(0.5, 1.2), s * rng.uniform(0.5, 1.2), s * rng.uniform(0.5, 1.2)};
+                e = make_edit(Primitive::Ellipsoid, {r.x, r.y, r.z, 0}, pos);
+            }
+        }
+        e.transform.rotation = unit(rng.rotation());
+        e.blend = r4(rng.uniform(0.15, 0.25));
+        g.edits.push_back(e);
+    }
+    return finish("rubble", 0.0, g, orbit({0.0, 0.0, 0.0}, 14.0, 30.0, 20.0));
+}
+
 // ---- the stability atlas's hard cases (docs/stability.md) ----
 // Sizes are chosen against the voxel the atlas and its tests build with: bricks of 0.125 (voxel
 // 0.0208; 0.5 for the 65,536 edits). Lattice coordinates (multiples of 0.25) lie on brick faces for
@@ -521,7 +549,7 @@ std::span<const std::string_view> generated_scene_names() { return kNames; }
 Scene generate_scene(std::string_view name, std::uint64_t seed) {
     using Generator = Scene (*)(Rng&);
     static constexpr std::array<Generator, kNames.size()> kGenerators = {
-        spheres, drops, cubes, rain, fractal, board, thin, sculpt, grazing_plane, grazing_cylinder, sub_voxel,
+        spheres, drops, cubes, rain, fractal, board, thin, sculpt, rubble, grazing_plane, grazing_cylinder, sub_voxel,
         blend_tiny, blend_huge, ellipsoid, menger6, instance_stack, far, camera_inside, camera_on_face, face_rays,
         edits_65536, instances_10000};
     const auto it = std::find(kNames.begin(), kNames.end(), name);
