@@ -118,8 +118,8 @@ inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound)
         default: FOLD_VALUES(PRIM, op); break;                                                             \
     }
 /* A sphere or capsule (PRIM) edit of operation OP: the skip test for the whole work-item first,
- * then sdf_fold_radial per value (on an H200 the two took drops' evaluation from 5.33 to 3.84 ms;
- * the test per value alone, to 5.15). */
+ * then sdf_fold_radial per value. On an H200, drops' evaluation (no shared aprons) took 5.15 ms
+ * with the per-value test alone and 3.70 with both (docs/performance.md). */
 #define FOLD_RADIAL_OP(PRIM, OP)                                                                           \
     {                                                                                                      \
         const float offset = sdf_radial_offset(e, PRIM, clamp_c);                                          \

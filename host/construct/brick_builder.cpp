@@ -565,22 +565,23 @@ void BrickBuilder::Job::evaluate_leaves(std::uint64_t leaf_count) {
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
     const double mean_list = s_.cull ? static_cast<double>(parent_lists_->size()) / static_cast<double>(leaf_count)
                                      : static_cast<double>(edits_host_.size());
-    const int share_edits = s_.apron_share_edits;
-    // The skip's code costs registers: only a geometry with sphere or capsule adds or subtracts has it.
-    const bool skip_far = s_.skip_far && std::any_of(edits_host_.begin(), edits_host_.end(), [](const SdfEdit& e) {
+    // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
+    // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
+    const bool hoist = mean_list >= BuildSettings::kLongList;
+    const bool skip_far = hoist && s_.skip_far && std::any_of(edits_host_.begin(), edits_host_.end(), [](const SdfEdit& e) {
         return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
                (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
     });
     const ocl::Program program = ocl::build_program(
         d_, "brick_evaluate.cl",
         fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={}", layout.defines(),
-                    lanes, per_item, mean_list >= BuildSettings::kLongList ? 1 : 0, share_edits > 0 ? 1 : 0,
+                    lanes, per_item, hoist ? 1 : 0, s_.apron_share_edits > 0 ? 1 : 0,
                     skip_far ? 1 : 0));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = plan_.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(d_, std::span<const float>(plan_.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(plan_.finest());
-    const ApronSharing apron = share_aprons(leaf_count, share_edits);
+    const ApronSharing apron = share_aprons(leaf_count, s_.apron_share_edits);
     ocl::set_args(kernel.get(), edits_, meshes_, *parent_lists_, leaves(), owned_ ? *owned_ : empty_uints_, origin_.x,
                   origin_.y, origin_.z,
                   static_cast<float>(plan_.voxel), level_clamp, plan_.band, layout.quantise_scale(plan_.band), finest,
