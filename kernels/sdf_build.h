@@ -29,9 +29,7 @@ inline sdf_real sdf_fold_of(const SdfPrepared* e, uint prim, uint op, __global c
 inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float field, float3 p, float clamp_c) {
     return sdf_fold_of(e, e->kind & 0xffu, (e->kind >> 8) & 0xffu, meshes, field, p.x, p.y, p.z, clamp_c);
 }
-#endif
 
-#if SDF_LANES == 1
 /* Spheres and capsules. Their value is (sqrt(d2) - r) s for the squared distance d2 of the point
  * from the centre (point or segment) in the edit's frame and its output scale s. An add changes the
  * fold F only where that value is below F + k, a subtract only where it is below k - F; beyond, the
@@ -51,11 +49,8 @@ inline float sdf_radial_bound(uint op, float field, float offset) {
  * it cannot change the fold. */
 inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float field, float x, float y, float z,
                              float clamp_c, float offset) {
-    float dx = x - e->t[0], dy = y - e->t[1], dz = z - e->t[2];
-    if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, &dx, &dy, &dz);
-    dx = dx * e->inv_scale; /* as sdf_edit_value_of */
-    dy = dy * e->inv_scale;
-    dz = dz * e->inv_scale;
+    float dx = x, dy = y, dz = z;
+    sdf_edit_frame(e, &dx, &dy, &dz); /* as sdf_edit_value_of */
     if (prim == SDF_PRIM_CAPSULE) dy = dy - clamp(dy, -e->prm[0], e->prm[0]);
     const float d2 = dx * dx + dy * dy + dz * dz; /* sdf_norm3's sum */
     const float bound = sdf_radial_bound(op, field, offset);

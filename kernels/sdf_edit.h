@@ -186,10 +186,12 @@ inline SdfPrepared sdf_prepare(SdfEdit e) {
 /* Value of one prepared edit at (x, y, z) (geometry frame) whose primitive is prim (= e->kind & 0xff:
  * a caller that has branched on the primitive passes it as a constant, and the switch folds away);
  * meshes is the mesh pool (sdf_types.h). */
-inline sdf_real sdf_edit_value_of(const SdfPrepared* e, uint prim, __global const float* meshes, sdf_real x, sdf_real y,
-                                  sdf_real z) {
-    sdf_real dx = x - e->t[0], dy = y - e->t[1], dz = z - e->t[2];
-    if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, &dx, &dy, &dz);
+/* (x, y, z) (geometry frame) in the frame of edit e, in place: translated, rotated, scaled. */
+inline void sdf_edit_frame(const SdfPrepared* e, sdf_real* x, sdf_real* y, sdf_real* z) {
+    *x = *x - e->t[0];
+    *y = *y - e->t[1];
+    *z = *z - e->t[2];
+    if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, x, y, z);
     /* A product with 1 is exact: skipping it changes no bit. CPU lanes skip it (three vector products
      * per edit); with one lane (GPUs) the test costs more than the products: drops' evaluate on an
      * H200 took 8.32 ms with the test and 8.15 ms without. */
@@ -197,10 +199,16 @@ inline sdf_real sdf_edit_value_of(const SdfPrepared* e, uint prim, __global cons
     if (e->inv_scale != 1.0f)
 #endif
     {
-        dx = dx * e->inv_scale;
-        dy = dy * e->inv_scale;
-        dz = dz * e->inv_scale;
+        *x = *x * e->inv_scale;
+        *y = *y * e->inv_scale;
+        *z = *z * e->inv_scale;
     }
+}
+
+inline sdf_real sdf_edit_value_of(const SdfPrepared* e, uint prim, __global const float* meshes, sdf_real x, sdf_real y,
+                                  sdf_real z) {
+    sdf_real dx = x, dy = y, dz = z;
+    sdf_edit_frame(e, &dx, &dy, &dz);
     const sdf_real v = prim == SDF_PRIM_MESH ? sdf_mesh_lanes(meshes, (uint)e->prm[3], dx, dy, dz)
                                              : sdf_primitive(prim, e->prm, dx, dy, dz);
 #if SDF_LANES > 1
