@@ -10,8 +10,12 @@
  * Either way every ancestor of a leaf that passes its test passes its own (docs/construction.md).
  * The root (the pseudo-parent's only child) is kept without a test where its level is wide: it is
  * the domain itself, one brick, and the long full edit list makes its test the slowest of all.
- * The parent's edits are staged through __local memory in chunks of chunk_size. Writes the parent's
- * child mask (bit = Morton index) and its child count. */
+ * The parent's edits are staged through __local memory in chunks of chunk_size, with the terms of
+ * their excess. Where a level has few parents (long lists, few work-groups: bound by latency), the
+ * work-group has `parts` work-items per child: they compute the edits' values at the child's centre
+ * (which do not depend on the fold) in turn into __local values, and the first folds them in list
+ * order, so the bits do not depend on parts. Writes the parent's child mask (bit = Morton index) and
+ * its child count. */
 #include "sdf_build.h"
 
 __kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
@@ -20,12 +24,14 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                           float threshold, float clamp_c, float saturation, float reject_slack,
                           float magnitude,
                           __global uint* child_counts,
-                          __local SdfPrepared* chunk, uint chunk_size, __local uint* kept) {
+                          __local SdfPrepared* chunk, __local float4* terms, uint chunk_size,
+                          __local float* values, __local uint* kept) {
     const uint parent = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
+    const uint children = 1u << (3u * log2b), child = lid & (children - 1u);
+    const uint part = lid >> (3u * log2b), parts = wg >> (3u * log2b);
     const SdfBrick b = parents[parent];
-    const uint b_axis = 1u << log2b;
-    const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)b_axis + sdf_morton_child(lid, log2b);
+    const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)(1u << log2b) + sdf_morton_child(child, log2b);
     const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
     const int wide = saturation > clamp_c;
     const int keep_root = wide && b.level == 0xffffffffu;
@@ -34,24 +40,44 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
     for (uint base = 0; base < edit_count; base += chunk_size) {
         const uint n = min(chunk_size, edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
+        for (uint j = lid; j < n; j += wg) {
+            const SdfPrepared e = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
+            chunk[j] = e;
+            terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
+        }
         barrier(CLK_LOCAL_MEM_FENCE);
-        /* The values do not depend on the fold: unrolled, they overlap (the coarse levels run few
-         * work-groups with long lists, bound by latency). saturation is C where not wide. */
+        if (parts == 1u) {
+            /* Unrolled, the values overlap. saturation is C where not wide. */
 #pragma unroll 4
-        for (uint j = 0; j < n; ++j) {
-            const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
-            const float v = sdf_prepared_value(&e, meshes, p);
-            if (wide) excess += sdf_saturation_excess(&e, v, clamp_c, saturation, threshold, magnitude);
-            field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
+            for (uint j = 0; j < n; ++j) {
+                const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
+                const float v = sdf_prepared_value(&e, meshes, p);
+                if (wide) excess += sdf_saturation_excess(terms[j], v);
+                field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
+            }
+        } else {
+            for (uint j = part; j < n; j += parts) {
+                const SdfPrepared e = chunk[j];
+                values[j * children + child] = sdf_prepared_value(&e, meshes, p);
+            }
+            barrier(CLK_LOCAL_MEM_FENCE);
+            if (part == 0u) {
+                for (uint j = 0; j < n; ++j) {
+                    const SdfPrepared e = chunk[j];
+                    const float v = values[j * children + child];
+                    if (wide) excess += sdf_saturation_excess(terms[j], v);
+                    field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
+                }
+            }
         }
     }
-    kept[lid] = keep_root || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack
-                                   : fabs(field) <= threshold) ? 1u : 0u;
+    if (part == 0u)
+        kept[child] = keep_root || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack
+                                         : fabs(field) <= threshold) ? 1u : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
         uint mask[2] = {0u, 0u}, count = 0;
-        for (uint i = 0; i < wg; ++i) {
+        for (uint i = 0; i < children; ++i) {
             if (kept[i]) {
                 mask[i >> 5] |= 1u << (i & 31u);
                 ++count;

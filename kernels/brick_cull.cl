@@ -4,9 +4,10 @@
  * on, every edit that a kept smooth edit depends on (and that the parent's list holds) is kept too.
  * Lists stay unique and ascending: a bit per parent-list entry, then compaction.
  *   cull_words: words of the bit set per brick  -> scan -> word offsets
- *   cull_mark:  the bit set, one work-item per word
- *   cull_count: dependencies (when on) and the kept count  -> scan -> list offsets
- *   cull_write: the compacted list; the brick's edit_offset / edit_count now name it */
+ *   cull_mark:  the bit set, one work-item per word, and where each word's entries are in the parent lists
+ *   cull_count: dependencies (when on) and the kept count per word  -> scan -> each word's output slot
+ *   cull_write: the compacted lists, one work-item per bit; the bricks' edit_offset / edit_count now
+ *               name them */
 #include "sdf_build.h"
 
 __kernel void cull_words(__global const SdfBrick* bricks, uint count, __global uint* words) {
@@ -41,7 +42,7 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const float* mes
                         __global const SdfBrick* bricks, uint count, uint total_words,
                         float origin_x, float origin_y, float origin_z, float cell,
                         float radius, float clamp_c, float magnitude,
-                        __global const uint* word_offsets, __global uint* bits) {
+                        __global const uint* word_offsets, __global uint* bits, __global uint* sources) {
     const uint w = get_global_id(0);
     if (w >= total_words) return;
     const uint i = owner_of_word(word_offsets, count, w);
@@ -58,17 +59,20 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const float* mes
         if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, meshes, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
     }
     bits[w] = word;
+    sources[w] = b.edit_offset + first;
 }
 
 /* Per brick: with dependencies on, the dependencies of every edit kept by cull_mark that is smooth
- * (and that the inherited list holds; no closure); then the kept count. */
+ * (and that the inherited list holds; no closure); then the kept count of each of its words
+ * (kept_words has one more entry than there are words: a 0, so that its prefix sum ends in the total). */
 __kernel void cull_count(__global const SdfEdit* edits, __global const uint* parent_indices,
-                         __global const SdfBrick* bricks, uint count,
+                         __global const SdfBrick* bricks, uint count, uint total_words,
                          __global const uint* word_offsets, __global uint* bits,
                          uint use_dependencies, __global const uint* dep_offsets, __global const uint* dep_indices,
-                         __global uint* kept_counts) {
+                         __global uint* kept_words) {
     const uint i = get_global_id(0);
     if (i >= count) return;
+    if (i == count - 1u) kept_words[total_words] = 0u;
     const SdfBrick b = bricks[i];
     __global const uint* list = parent_indices + b.edit_offset;
     __global uint* mask = bits + word_offsets[i];
@@ -88,29 +92,34 @@ __kernel void cull_count(__global const SdfEdit* edits, __global const uint* par
             }
         }
     }
-    uint kept = 0;
-    for (uint w = 0; w < words; ++w) kept += popcount(mask[w]);
-    kept_counts[i] = kept;
+    for (uint w = 0; w < words; ++w) kept_words[word_offsets[i] + w] = popcount(mask[w]);
 }
 
-__kernel void cull_write(__global const uint* parent_indices, __global SdfBrick* bricks, uint count,
-                         __global const uint* word_offsets, __global const uint* bits,
-                         __global const uint* list_offsets, __global uint* indices) {
-    const uint i = get_global_id(0);
-    if (i >= count) return;
-    const SdfBrick b = bricks[i];
-    __global const uint* list = parent_indices + b.edit_offset;
-    __global const uint* mask = bits + word_offsets[i];
-    uint out = list_offsets[i];
-    const uint words = (b.edit_count + 31u) >> 5;
-    for (uint w = 0; w < words; ++w) {
-        uint word = mask[w];
+/* A work-item per span bits of the bit sets (1 on GPUs: a warp writes one word's entries side by
+ * side; 32 on CPUs, a word per work-item): a kept entry goes to its word's first output slot (the
+ * prefix sum of the kept counts) plus the kept entries before it in the word. The first `count`
+ * work-items also give their brick its new list (bricks are not read here otherwise: sources holds
+ * each word's first entry in the parent lists). */
+__kernel void cull_write(__global const uint* parent_indices, __global SdfBrick* bricks, uint count, uint total_words,
+                         uint span, __global const uint* word_offsets, __global const uint* bits,
+                         __global const uint* sources, __global const uint* word_lists, __global uint* indices) {
+    const uint t = get_global_id(0);
+    const uint first = t * span, end = min(first + span, total_words << 5);
+    for (uint k = first; k < end;) {
+        const uint w = k >> 5, all = bits[w], out = word_lists[w], source = sources[w];
+        const uint lo = k & 31u, hi = min(end - (w << 5), 32u); /* this word's bits [lo, hi) */
+        uint word = all & (0xffffffffu << lo) & (hi == 32u ? 0xffffffffu : (1u << hi) - 1u);
         while (word != 0u) {
-            const uint j = (w << 5) + (31u - clz(word & (0u - word)));
+            const uint bit = 31u - clz(word & (0u - word));
             word &= word - 1u;
-            indices[out++] = list[j];
+            indices[out + popcount(all & ((1u << bit) - 1u))] = parent_indices[source + bit];
         }
+        k = (w << 5) + hi;
     }
-    bricks[i].edit_count = out - list_offsets[i];
-    bricks[i].edit_offset = list_offsets[i];
+    if (t < count) {
+        const uint from = word_offsets[t];
+        const uint to = from + ((bricks[t].edit_count + 31u) >> 5);
+        bricks[t].edit_offset = word_lists[from];
+        bricks[t].edit_count = word_lists[to] - word_lists[from];
+    }
 }

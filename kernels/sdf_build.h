@@ -66,10 +66,10 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float fie
  * meet the saturation level +-C there (an add or subtract blends with F = C where |v - C| < k, an
  * intersect with F = -C where |v + C| < k), plus a rounding allowance for the chain of combines;
  * 0 for a hard edit (min, max and clamp are exact in float, so they add no difference).
- * docs/construction.md ("Sparse coarse levels") gives the argument. */
-inline float sdf_saturation_excess(const SdfPrepared* e, float v, float clamp_c, float saturation, float radius,
-                                   float magnitude) {
-    if (!(e->blend > 0.0f)) return 0.0f;
+ * docs/construction.md ("Sparse coarse levels") gives the argument. These are the terms of that
+ * excess that do not depend on v; sdf_saturation_excess adds them up for one v. */
+inline float4 sdf_excess_terms(const SdfPrepared* e, float clamp_c, float saturation, float radius, float magnitude) {
+    if (!(e->blend > 0.0f)) return (float4)(0.0f, -INFINITY, 0.0f, 0.0f);
     /* The rounding of v, as in sdf_edit_reaches: relative to the coordinates and the edit's size. */
     const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
                         fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
@@ -78,7 +78,13 @@ inline float sdf_saturation_excess(const SdfPrepared* e, float v, float clamp_c,
     const uint op = (e->kind >> 8) & 0xffu;
     const float level = op == SDF_OP_INTERSECT ? -clamp_c : clamp_c;
     const float rounding = (saturation + e->blend) * 9.5367431640625e-07f; /* 2^-20 */
-    return (fabs(v - level) < e->blend + radius + margin ? 0.25f * e->blend : 0.0f) + rounding;
+    return (float4)(level, e->blend + radius + margin, 0.25f * e->blend, rounding);
+}
+
+/* The excess itself from e's terms (sdf_excess_terms: level, reach, k/4, rounding; they do not depend
+ * on v, so a work-group computes them once per edit) and e's value v. */
+inline float sdf_saturation_excess(float4 terms, float v) {
+    return (fabs(v - terms.x) < terms.y ? terms.z : 0.0f) + terms.w;
 }
 
 /* Centre of cell coord (in cells of size cell) of a lattice whose origin is origin. */

@@ -551,6 +551,13 @@ Kernel make_kernel(const Program& program, const char* name) {
     return kernel;
 }
 
+std::size_t kernel_work_group_limit(const Device& device, cl_kernel kernel, std::string_view name) {
+    std::size_t limit = 0;
+    check(clGetKernelWorkGroupInfo(kernel, device.id(), CL_KERNEL_WORK_GROUP_SIZE, sizeof(limit), &limit, nullptr),
+          fmt::format("querying the work-group size limit of {}", name));
+    return limit;
+}
+
 std::string encode_cache_entry(const CacheEntry& entry, const CacheSeal& seal) {
     std::string bytes = fmt::format("{}\nkey {}\nlog {}\nbinary {}\nmac {}\n", kCacheFormat, entry.key,
                                     entry.log.size(), entry.binary.size(), mac(seal, entry));

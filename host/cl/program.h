@@ -75,6 +75,10 @@ Program build_program(Device& device, std::string_view kernel_file, std::string_
 // Throws ClError naming the kernel (and the kernels the program does define) on failure.
 Kernel make_kernel(const Program& program, const char* name);
 
+// The most work-items per work-group that kernel (named name in errors) allows on device
+// (CL_KERNEL_WORK_GROUP_SIZE: its registers and local memory can lower it below the device's limit).
+std::size_t kernel_work_group_limit(const Device& device, cl_kernel kernel, std::string_view name);
+
 // Rewrites locations that a compiler reports in the assembled source, ignoring its #line directives
 // (NVIDIA: "<kernel>:7:23: error"), to the kernel file and line: "bad.cl:3:23: error". build_program
 // applies it to every build log.

@@ -35,6 +35,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
     group_ = cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation (default: tuned for the device, else 128)");
     cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation: 1, 2, 4, 8 or 16 (default: "
                                               "the native float width on CPU devices, else 1; changes no bit)");
+    cmd->add_option("--count-parts", s.count_parts, "work-items per candidate child in the count stage: 1, 2, 4, 8 or 16 "
+                                                     "(default 0: several on GPUs at levels with few bricks, else 1; "
+                                                     "changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("!--no-skip-far", s.skip_far,
                   "the leaf evaluation evaluates sphere and capsule edits at every sample, also where they cannot "
@@ -47,7 +50,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
                             {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
                             {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
-                            {"eval_lanes", "--lanes"}, {"apron_share_edits", "--apron-share-edits"}});
+                            {"eval_lanes", "--lanes"}, {"count_parts", "--count-parts"},
+                            {"apron_share_edits", "--apron-share-edits"}});
 }
 
 construct::BuildSettings BuildFlags::resolve() const {
@@ -85,7 +89,7 @@ void MeasureFlags::add_to(CLI::App* cmd, const char* what) {
 nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
-            {"chunk", s.chunk}, {"group", s.eval_group}, {"lanes", s.eval_lanes}, {"cull", s.cull},
+            {"chunk", s.chunk}, {"group", s.eval_group}, {"lanes", s.eval_lanes}, {"count_parts", s.count_parts}, {"cull", s.cull},
             {"skip_far", s.skip_far}, {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
             {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }

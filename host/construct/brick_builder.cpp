@@ -30,6 +30,9 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (levels < 0 || levels > 31)
         throw SettingError("levels", fmt::format("levels must lie in 1..31 (0 = automatic), got {}", levels));
     if (chunk < 16 || chunk > 256) throw SettingError("chunk", fmt::format("chunk must lie in 16..256, got {}", chunk));
+    if (count_parts < 0 || count_parts > 16 || (count_parts & (count_parts - 1)) != 0)
+        throw SettingError("count_parts", fmt::format("count_parts must be 1, 2, 4, 8 or 16 (0 = automatic), got {}",
+                                                      count_parts));
     if (apron_share_edits < 0)
         throw SettingError("apron_share_edits", fmt::format("apron_share_edits must be 0 or more, got {}", apron_share_edits));
     if (eval_group < 1 || eval_group > 1024 || (eval_group & (eval_group - 1)) != 0)
@@ -280,7 +283,8 @@ public:
                 subtrees_ = nullptr;
             }
             scratch_bytes_ = std::max<std::uint64_t>(scratch_bytes_, counts_.bytes() + offsets_.bytes() + words_.bytes() +
-                                                                         bits_.bytes());
+                                                                         bits_.bytes() + sources_.bytes() +
+                                                                         kept_words_.bytes());
             kept_.push_back(children);
             parent_count_ = children;
             if (s_.adaptive() && level >= plan_.coarsest_leaf && level < plan_.finest() && children > 0)
@@ -328,14 +332,11 @@ private:
     cl_uint level_log2b(int level) const { return level == 0 ? 0u : plan_.log2b; }
     float cell(int level) const { return static_cast<float>(plan_.domain.cell_size(level)); }
     std::size_t chunk_bytes() const { return static_cast<std::size_t>(s_.chunk) * sizeof(SdfEdit); }
-    // The count stage stages edits in chunks of 256 where local memory allows (its coarse levels
-    // fold long lists with few work-groups: fewer barriers), else of the evaluation's chunk. The
-    // chunk changes no bit: the fold is in list order either way.
-    std::size_t count_chunk() const {
-        const std::size_t fits = (d_.info().local_mem_bytes - 64 * sizeof(cl_uint)) / sizeof(SdfEdit);
-        return std::max<std::size_t>(static_cast<std::size_t>(s_.chunk), std::min<std::size_t>(256, fits));
-    }
-
+    struct CountShape {
+        std::size_t parts = 1;  // work-items per child
+        std::size_t chunk = 0;  // edits staged at once
+    };
+    CountShape count_shape(std::size_t children) const;
     BrickBuilder& b_;
     ocl::Device& d_;
     const Geometry& g_;
@@ -358,7 +359,7 @@ private:
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
     std::vector<std::uint64_t> list_entries_;                            // every level's list entries
-    ocl::Buffer<cl_uint> counts_{d_, 0}, offsets_{d_, 0}, words_{d_, 0}, bits_{d_, 0};
+    ocl::Buffer<cl_uint> counts_{d_, 0}, offsets_{d_, 0}, words_{d_, 0}, bits_{d_, 0}, sources_{d_, 0}, kept_words_{d_, 0};
     std::uint64_t brick_bytes_ = 0, list_bytes_ = 0, scratch_bytes_ = 0;
     std::vector<std::uint64_t> kept_;  // every level's kept bricks (adaptive: leaves and parents)
     // Adaptive builds: each checked level's leaves, their check results and (once the next level's
@@ -375,16 +376,50 @@ private:
     std::unique_ptr<ocl::Buffer<SdfBrick>> merged_leaves_;
 };
 
+// The count stage's work-group: BuildSettings::count_parts work-items per child. Automatic: on GPUs
+// several where the level has too few parents to give every compute unit a full work-group (the top
+// levels: long lists folded by few work-groups, bound by latency), where the values fit in __local
+// memory. Edits are staged in chunks of up to 256 (fewer barriers) as local memory allows. Neither
+// changes a bit: the fold is in list order either way.
+BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t children) const {
+    // A staged edit: its prepared form (no larger than SdfEdit) and its excess terms.
+    constexpr std::size_t kStaged = sizeof(SdfEdit) + sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
+    const std::size_t local = d_.info().local_mem_bytes - children * sizeof(cl_uint);
+    const std::size_t limit = ocl::kernel_work_group_limit(d_, b_.programs_->count_k.get(), "brick_count");
+    const auto fits = [&](std::size_t parts) {
+        return children * parts <= limit && (parts == 1 || kMinChunk * (kStaged + children * sizeof(float)) <= local);
+    };
+    CountShape shape;
+    if (s_.count_parts > 0) {
+        shape.parts = static_cast<std::size_t>(s_.count_parts);
+        if (!fits(shape.parts))
+            throw SettingError("count_parts", fmt::format("count_parts {} does not fit brick_count's work-group on {} "
+                                                          "({} work-items, {} bytes of local memory)",
+                                                          s_.count_parts, d_.info().name, limit, local));
+    } else if (d_.info().type == "gpu") {
+        while (shape.parts * 2 <= kMaxParts && fits(shape.parts * 2) &&
+               parent_count_ * children * shape.parts * 2 <= d_.info().compute_units * limit)
+            shape.parts *= 2;
+    }
+    const std::size_t per_edit = kStaged + (shape.parts > 1 ? children * sizeof(float) : 0);
+    shape.chunk = std::min<std::size_t>(256, local / per_edit);
+    return shape;
+}
+
 std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     const cl_uint lb = level_log2b(level);
-    const std::size_t group = std::size_t{1} << (3 * lb);
+    const std::size_t per_parent = std::size_t{1} << (3 * lb);
+    const CountShape shape = count_shape(per_parent);
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(d_, parent_count_, "the child counts");
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(d_, parent_count_, "the child offsets");
+    const std::size_t values = shape.parts > 1 ? shape.chunk * per_parent : 1;
     ocl::set_args(b_.programs_->count_k.get(), edits_, meshes_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
                   cell(level), plan_.threshold(level), plan_.clamp_c, plan_.saturation(level), plan_.reject_slack(),
-                  static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{count_chunk() * sizeof(SdfEdit)},
-                  static_cast<cl_uint>(count_chunk()), ocl::LocalMemory{group * sizeof(cl_uint)});
-    scheduler_.launch(measure::Stage::count, level, b_.programs_->count_k.get(), parent_count_ << (3 * lb), group);
+                  static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
+                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, static_cast<cl_uint>(shape.chunk),
+                  ocl::LocalMemory{values * sizeof(float)}, ocl::LocalMemory{per_parent * sizeof(cl_uint)});
+    scheduler_.launch(measure::Stage::count, level, b_.programs_->count_k.get(), parent_count_ * per_parent * shape.parts,
+                      per_parent * shape.parts);
     const std::uint64_t children =
         b_.scan_.exclusive(counts_, offsets_, parent_count_, scheduler_, measure::Stage::scan, level);
     // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count
@@ -433,28 +468,36 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     const std::size_t global = round_up(children, kGroup1d);
     const auto n = static_cast<cl_uint>(children);
     if (words_.size() < children) words_ = allocate<cl_uint>(d_, children, "the cull word counts");
-    if (counts_.size() < children) counts_ = allocate<cl_uint>(d_, children, "the cull counts");
     ocl::set_args(k.words_k.get(), bricks, n, words_);
     scheduler_.launch(measure::Stage::cull, level, k.words_k.get(), global, kGroup1d);
     const std::uint64_t total_words = b_.scan_.exclusive(words_, words_, children, scheduler_, measure::Stage::cull, level);
+    if (total_words > 0xffffffffu / 32)
+        throw InputError(fmt::format("level {} inherits {} words of edit-list bits, more than one build handles "
+                                     "(2^27): use a larger brick size",
+                                     level, total_words));
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
+    if (sources_.size() < total_words) sources_ = allocate<cl_uint>(d_, total_words, "the cull word sources");
     if (total_words > 0) {
         ocl::set_args(k.mark_k.get(), edits_, meshes_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
                       origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.cull_saturation(level),
-                      static_cast<float>(plan_.magnitude), words_, bits_);
+                      static_cast<float>(plan_.magnitude), words_, bits_, sources_);
         scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
     }
     const ocl::Buffer<cl_uint>& dep_offsets = deps_ ? deps_->offsets : empty_uints_;
     const ocl::Buffer<cl_uint>& dep_indices = deps_ ? deps_->indices : empty_uints_;
-    ocl::set_args(k.cull_count_k.get(), edits_, parent_lists, bricks, n, words_, bits_,
-                  static_cast<cl_uint>(deps_ ? 1 : 0), dep_offsets, dep_indices, counts_);
+    if (kept_words_.size() < total_words + 1) kept_words_ = allocate<cl_uint>(d_, total_words + 1, "the cull kept counts");
+    ocl::set_args(k.cull_count_k.get(), edits_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), words_, bits_,
+                  static_cast<cl_uint>(deps_ ? 1 : 0), dep_offsets, dep_indices, kept_words_);
     scheduler_.launch(measure::Stage::cull, level, k.cull_count_k.get(), global, kGroup1d);
-    if (offsets_.size() < children) offsets_ = allocate<cl_uint>(d_, children, "the list offsets");
-    const std::uint64_t entries = b_.scan_.exclusive(counts_, offsets_, children, scheduler_, measure::Stage::cull, level);
+    const std::uint64_t entries =
+        b_.scan_.exclusive(kept_words_, kept_words_, total_words + 1, scheduler_, measure::Stage::cull, level);
     auto lists = std::make_unique<ocl::Buffer<cl_uint>>(
         allocate<cl_uint>(d_, entries, fmt::format("the edit lists of level {}", level)));
-    ocl::set_args(k.write_k.get(), parent_lists, bricks, n, words_, bits_, offsets_, *lists);
-    scheduler_.launch(measure::Stage::cull, level, k.write_k.get(), global, kGroup1d);
+    const std::uint64_t span = d_.info().type == "cpu" ? 32 : 1;  // bits per work-item (brick_cull.cl)
+    ocl::set_args(k.write_k.get(), parent_lists, bricks, n, static_cast<cl_uint>(total_words), static_cast<cl_uint>(span),
+                  words_, bits_, sources_, kept_words_, *lists);
+    scheduler_.launch(measure::Stage::cull, level, k.write_k.get(),
+                      round_up(std::max<std::uint64_t>(total_words * 32 / span, children), kGroup1d), kGroup1d);
     list_bytes_ += lists->bytes();
     list_entries_.push_back(entries);
     if (!level_leaves_.empty() && level_leaves_.back().level == level - 1) level_leaves_.back().lists = std::move(parent_lists_);

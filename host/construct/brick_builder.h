@@ -42,6 +42,10 @@ struct BuildSettings {
     // Samples per SIMD value of the leaf evaluation (1, 2, 4, 8 or 16; changes no bit): 0 = the
     // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
     int eval_lanes = 0;
+    // Work-items per candidate child in the count stage (1, 2, 4, 8 or 16; changes no bit): several
+    // compute a long list's values in turn and one folds them. 0 = automatic: on GPUs as many as fill
+    // the device at levels with few parents, 1 on CPUs (whose cores hide no latency that way).
+    int count_parts = 0;
     bool cull = true;
     // In the leaf evaluation with one lane (GPUs), sphere and capsule edits (adds and subtracts) skip
     // the samples where they cannot change the fold, found from the running value before the square

@@ -21,14 +21,6 @@ constexpr measure::Stage kDepsStage = measure::Stage::dependencies;
 // Cells per axis never exceed this (the cell count is bounded by the box count anyway).
 constexpr double kMaxDim = double(1u << 20);
 
-std::size_t kernel_work_group_limit(const ocl::Device& device, cl_kernel kernel, const char* name) {
-    std::size_t limit = 0;
-    ocl::check(clGetKernelWorkGroupInfo(kernel, device.id(), CL_KERNEL_WORK_GROUP_SIZE, sizeof(limit), &limit,
-                                        nullptr),
-               fmt::format("querying the work-group size limit of {}", name));
-    return limit;
-}
-
 struct Grid {
     std::array<float, 3> origin{0.0f, 0.0f, 0.0f};
     float inv = 0.0f;  // 1 / cell side; 0: a single cell
@@ -119,8 +111,8 @@ DependencyBuilder::DependencyBuilder(ocl::Device& device, Scan& scan)
       grid_sort_(ocl::make_kernel(deps_program_, "grid_sort")),
       deps_count_(ocl::make_kernel(deps_program_, "deps_count")),
       deps_write_(ocl::make_kernel(deps_program_, "deps_write")) {
-    const std::size_t limit = std::min(kernel_work_group_limit(device, grid_stats_.get(), "grid_stats"),
-                                       kernel_work_group_limit(device, grid_refs_.get(), "grid_refs"));
+    const std::size_t limit = std::min(ocl::kernel_work_group_limit(device, grid_stats_.get(), "grid_stats"),
+                                       ocl::kernel_work_group_limit(device, grid_refs_.get(), "grid_refs"));
     while (reduce_local_ > 1 && reduce_local_ > limit) reduce_local_ /= 2;  // stays a power of two
 }
 

@@ -10,24 +10,12 @@
 
 namespace sdfbrick::construct {
 
-namespace {
-
-std::size_t kernel_work_group_limit(const ocl::Device& device, cl_kernel kernel) {
-    std::size_t limit = 0;
-    ocl::check(clGetKernelWorkGroupInfo(kernel, device.id(), CL_KERNEL_WORK_GROUP_SIZE, sizeof(limit), &limit,
-                                        nullptr),
-               "querying the work-group size limit of scan_blocks");
-    return limit;
-}
-
-}  // namespace
-
 Scan::Scan(ocl::Device& device)
     : device_(device), program_(ocl::build_program(device, "scan.cl")),
       blocks_(ocl::make_kernel(program_, "scan_blocks")), add_(ocl::make_kernel(program_, "scan_add")),
       overflow_(device, 1) {
-    const std::size_t limit = std::min(kernel_work_group_limit(device, blocks_.get()),
-                                       kernel_work_group_limit(device, add_.get()));
+    const std::size_t limit = std::min(ocl::kernel_work_group_limit(device, blocks_.get(), "scan_blocks"),
+                                       ocl::kernel_work_group_limit(device, add_.get(), "scan_add"));
     while (local_ > 1 && local_ > limit) local_ /= 2;  // stays a power of two
 }
 
