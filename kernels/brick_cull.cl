@@ -3,17 +3,14 @@
  * within radius of the brick's centre (half its diagonal plus the sample apron). With dependencies
  * on, every edit that a kept smooth edit depends on (and that the parent's list holds) is kept too.
  * Lists stay unique and ascending: a bit per parent-list entry, then compaction.
- *   cull_words: words of the bit set per brick  -> scan -> word offsets
- *   cull_mark:  the bit set, one work-item per word, and where each word's entries are in the parent lists
+ *   (brick_subdivide wrote the words of each brick's bit set)  -> scan -> word offsets
+ *   cull_mark:  the bit set, and where each word's entries are in the parent lists
  *   cull_count: dependencies (when on) and the kept count per word  -> scan -> each word's output slot
- *   cull_write: the compacted lists, one work-item per bit; the bricks' edit_offset / edit_count now
- *               name them */
+ *   cull_write: the compacted lists; the bricks' edit_offset / edit_count now name them
+ * cull_mark and cull_write take `span` bits per work-item (a power of two up to 32): 1 where a level
+ * has few (the top levels: few bricks, long lists), so that the device is full, up to a word where it
+ * has many (then fewer work-items do more each). */
 #include "sdf_build.h"
-
-__kernel void cull_words(__global const SdfBrick* bricks, uint count, __global uint* words) {
-    const uint i = get_global_id(0);
-    if (i < count) words[i] = (bricks[i].edit_count + 31u) >> 5;
-}
 
 /* Position of value in the ascending list[0, n), or n when absent. */
 inline uint find_sorted(__global const uint* list, uint n, uint value) {
@@ -36,30 +33,38 @@ inline uint owner_of_word(__global const uint* word_offsets, uint count, uint w)
     return lo;
 }
 
-/* One work-item per word of the bit sets (32 entries of one brick's inherited list): parallel over
- * long lists too (the top levels have few bricks and long lists). */
+/* span bits per work-item (32 / span work-items per word, side by side in one work-group of
+ * get_local_size(0), a multiple of 32 / span): each sets the bits of the entries it keeps in its
+ * word through a __local word (OR: the order does not matter), whose first work-item writes it. */
 __kernel void cull_mark(__global const SdfEdit* edits, __global const float* meshes, __global const uint* parent_indices,
-                        __global const SdfBrick* bricks, uint count, uint total_words,
+                        __global const SdfBrick* bricks, uint count, uint total_words, uint span,
                         float origin_x, float origin_y, float origin_z, float cell,
                         float radius, float clamp_c, float magnitude,
-                        __global const uint* word_offsets, __global uint* bits, __global uint* sources) {
-    const uint w = get_global_id(0);
-    if (w >= total_words) return;
-    const uint i = owner_of_word(word_offsets, count, w);
-    const SdfBrick b = bricks[i];
-    const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
-                                     (int3)(b.coord[0], b.coord[1], b.coord[2]));
-    __global const uint* list = parent_indices + b.edit_offset;
-    const uint first = (w - word_offsets[i]) << 5;
-    const uint end = min(b.edit_count, first + 32u);
-    uint word = 0;
-    for (uint j = first; j < end; ++j) {
-        const SdfEdit e = edits[list[j]];
-        const SdfPrepared pe = sdf_prepare(e);
-        if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, meshes, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
+                        __global const uint* word_offsets, __global uint* bits, __global uint* sources,
+                        __local uint* words) {
+    const uint t = get_global_id(0), per_word = 32u / span;
+    const uint w = t / per_word, part = t % per_word, slot = get_local_id(0) / per_word;
+    if (part == 0u) words[slot] = 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (w < total_words) {
+        const uint i = owner_of_word(word_offsets, count, w);
+        const SdfBrick b = bricks[i];
+        const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
+                                         (int3)(b.coord[0], b.coord[1], b.coord[2]));
+        __global const uint* list = parent_indices + b.edit_offset;
+        const uint word_first = (w - word_offsets[i]) << 5, first = word_first + part * span;
+        const uint end = min(b.edit_count, first + span);
+        uint word = 0;
+        for (uint j = first; j < end; ++j) {
+            const SdfEdit e = edits[list[j]];
+            const SdfPrepared pe = sdf_prepare(e);
+            if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, meshes, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
+        }
+        if (word != 0u) atomic_or(&words[slot], word);
+        if (part == 0u) sources[w] = b.edit_offset + word_first;
     }
-    bits[w] = word;
-    sources[w] = b.edit_offset + first;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (part == 0u && w < total_words) bits[w] = words[slot];
 }
 
 /* Per brick: with dependencies on, the dependencies of every edit kept by cull_mark that is smooth
@@ -95,9 +100,9 @@ __kernel void cull_count(__global const SdfEdit* edits, __global const uint* par
     for (uint w = 0; w < words; ++w) kept_words[word_offsets[i] + w] = popcount(mask[w]);
 }
 
-/* A work-item per span bits of the bit sets (1 on GPUs: a warp writes one word's entries side by
- * side; 32 on CPUs, a word per work-item): a kept entry goes to its word's first output slot (the
- * prefix sum of the kept counts) plus the kept entries before it in the word. The first `count`
+/* span bits per work-item (with one, a warp writes one word's entries side by side): a kept entry
+ * goes to its word's first output slot (the prefix sum of the kept counts) plus the kept entries
+ * before it in the word. The first `count`
  * work-items also give their brick its new list (bricks are not read here otherwise: sources holds
  * each word's first entry in the parent lists). */
 __kernel void cull_write(__global const uint* parent_indices, __global SdfBrick* bricks, uint count, uint total_words,

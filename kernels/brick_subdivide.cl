@@ -1,11 +1,12 @@
 /* brick_subdivide.cl: stage "subdivide". One work-item per candidate child (parent * B^3 + Morton
  * index). A kept child goes to slot offsets[parent] + (kept siblings before it), so children follow
  * their parents' order and Morton order inside each parent: the array stays Morton-ordered without a
- * sort. A child starts with its parent's edit list; "cull" refines it. */
+ * sort. A child starts with its parent's edit list; "cull" refines it, from a bit set of `words`
+ * words per child, written here. */
 #include "sdf_build.h"
 
 __kernel void brick_subdivide(__global const SdfBrick* parents, uint parent_count, uint log2b,
-                              __global const uint* offsets, __global SdfBrick* children) {
+                              __global const uint* offsets, __global SdfBrick* children, __global uint* words) {
     const uint gid = get_global_id(0);
     const uint per_parent = 1u << (3u * log2b);
     const uint parent = gid >> (3u * log2b);
@@ -26,4 +27,5 @@ __kernel void brick_subdivide(__global const SdfBrick* parents, uint parent_coun
     c.child_mask[0] = 0u;
     c.child_mask[1] = 0u;
     children[offsets[parent] + before] = c;
+    words[offsets[parent] + before] = (b.edit_count + 31u) >> 5;
 }

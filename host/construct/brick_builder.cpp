@@ -70,7 +70,7 @@ double auto_leaf_size(double tolerance, const BrickLayout& layout) {
 
 struct BrickBuilder::Programs {
     ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
+    ocl::Kernel count_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
 
     explicit Programs(ocl::Device& d)
@@ -78,7 +78,7 @@ struct BrickBuilder::Programs {
           cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
           order(ocl::build_program(d, "brick_order.cl")),
           count_k(ocl::make_kernel(count, "brick_count")), subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
-          words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
+          mark_k(ocl::make_kernel(cull, "cull_mark")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
@@ -336,7 +336,8 @@ private:
         std::size_t parts = 1;  // work-items per child
         std::size_t chunk = 0;  // edits staged at once
     };
-    CountShape count_shape(std::size_t children) const;
+    CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
+    std::uint64_t bits_per_item(std::uint64_t words, cl_kernel kernel, std::string_view name) const;
     BrickBuilder& b_;
     ocl::Device& d_;
     const Geometry& g_;
@@ -379,9 +380,10 @@ private:
 // The count stage's work-group: BuildSettings::count_parts work-items per child. Automatic: on GPUs
 // several where the level has too few parents to give every compute unit a full work-group (the top
 // levels: long lists folded by few work-groups, bound by latency), where the values fit in __local
-// memory. Edits are staged in chunks of up to 256 (fewer barriers) as local memory allows. Neither
+// memory. Edits are staged in chunks of the parents' mean list, rounded up to 16, up to 256 (fewer
+// barriers) as local memory allows (a larger chunk than lists need costs occupancy). Neither
 // changes a bit: the fold is in list order either way.
-BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t children) const {
+BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t children, std::uint64_t mean_list) const {
     // A staged edit: its prepared form (no larger than SdfEdit) and its excess terms.
     constexpr std::size_t kStaged = sizeof(SdfEdit) + sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
     const std::size_t local = d_.info().local_mem_bytes - children * sizeof(cl_uint);
@@ -402,14 +404,17 @@ BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t childre
             shape.parts *= 2;
     }
     const std::size_t per_edit = kStaged + (shape.parts > 1 ? children * sizeof(float) : 0);
-    shape.chunk = std::min<std::size_t>(256, local / per_edit);
+    const std::size_t wanted = round_up(static_cast<std::size_t>(std::clamp<std::uint64_t>(mean_list, 1, 256)), kMinChunk);
+    shape.chunk = std::min({wanted, std::size_t{256}, local / per_edit});
     return shape;
 }
 
 std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     const cl_uint lb = level_log2b(level);
     const std::size_t per_parent = std::size_t{1} << (3 * lb);
-    const CountShape shape = count_shape(per_parent);
+    const std::uint64_t entries = list_entries_.empty() ? edits_host_.size() : list_entries_.back();
+    const CountShape shape =
+        count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(d_, parent_count_, "the child counts");
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(d_, parent_count_, "the child offsets");
     const std::size_t values = shape.parts > 1 ? shape.chunk * per_parent : 1;
@@ -443,8 +448,9 @@ void BrickBuilder::Job::subdivide(int level, std::uint64_t children) {
     brick_bytes_ += bricks->bytes();
     if (children > 0) {
         const cl_uint lb = level_log2b(level);
+        if (words_.size() < children) words_ = allocate<cl_uint>(d_, children, "the cull word counts");
         ocl::set_args(b_.programs_->subdivide_k.get(), *parents_, static_cast<cl_uint>(parent_count_), lb, offsets_,
-                      *bricks);
+                      *bricks, words_);
         const std::size_t global = round_up(parent_count_ << (3 * lb), kGroup1d);
         scheduler_.launch(measure::Stage::subdivide, level, b_.programs_->subdivide_k.get(), global, kGroup1d);
     }
@@ -461,15 +467,22 @@ void BrickBuilder::Job::cull(int level, std::uint64_t children) {
     list_entries_.push_back(children * edits_host_.size());
 }
 
+// The bits of the cull bit sets per work-item of cull_mark and cull_write (a power of two up to 32):
+// the fewest that keep the work-items within what the device runs at once (compute units times the
+// kernel's work-group limit). Changes no bit.
+std::uint64_t BrickBuilder::Job::bits_per_item(std::uint64_t words, cl_kernel kernel, std::string_view name) const {
+    const std::uint64_t resident = std::uint64_t{d_.info().compute_units} * ocl::kernel_work_group_limit(d_, kernel, name);
+    std::uint64_t span = 1;
+    while (span < 32 && words * 32 / span > resident) span *= 2;
+    return span;
+}
+
 void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     const auto& k = *b_.programs_;
     const ocl::Buffer<SdfBrick>& bricks = *parents_;  // this level's bricks (subdivide moved them there)
     const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
     const std::size_t global = round_up(children, kGroup1d);
     const auto n = static_cast<cl_uint>(children);
-    if (words_.size() < children) words_ = allocate<cl_uint>(d_, children, "the cull word counts");
-    ocl::set_args(k.words_k.get(), bricks, n, words_);
-    scheduler_.launch(measure::Stage::cull, level, k.words_k.get(), global, kGroup1d);
     const std::uint64_t total_words = b_.scan_.exclusive(words_, words_, children, scheduler_, measure::Stage::cull, level);
     if (total_words > 0xffffffffu / 32)
         throw InputError(fmt::format("level {} inherits {} words of edit-list bits, more than one build handles "
@@ -478,10 +491,14 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(d_, total_words, "the cull bit sets");
     if (sources_.size() < total_words) sources_ = allocate<cl_uint>(d_, total_words, "the cull word sources");
     if (total_words > 0) {
-        ocl::set_args(k.mark_k.get(), edits_, meshes_, parent_lists, bricks, n, static_cast<cl_uint>(total_words), origin_.x,
-                      origin_.y, origin_.z, cell(level), plan_.cull_radius(level, s_.layout().apron()), plan_.cull_saturation(level),
-                      static_cast<float>(plan_.magnitude), words_, bits_, sources_);
-        scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words, kGroup1d), kGroup1d);
+        const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
+        ocl::set_args(k.mark_k.get(), edits_, meshes_, parent_lists, bricks, n, static_cast<cl_uint>(total_words),
+                      static_cast<cl_uint>(span), origin_.x, origin_.y, origin_.z, cell(level),
+                      plan_.cull_radius(level, s_.layout().apron()), plan_.cull_saturation(level),
+                      static_cast<float>(plan_.magnitude), words_, bits_, sources_,
+                      ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
+        scheduler_.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words * 32 / span, kGroup1d),
+                          kGroup1d);
     }
     const ocl::Buffer<cl_uint>& dep_offsets = deps_ ? deps_->offsets : empty_uints_;
     const ocl::Buffer<cl_uint>& dep_indices = deps_ ? deps_->indices : empty_uints_;
@@ -493,7 +510,7 @@ void BrickBuilder::Job::cull_lists(int level, std::uint64_t children) {
         b_.scan_.exclusive(kept_words_, kept_words_, total_words + 1, scheduler_, measure::Stage::cull, level);
     auto lists = std::make_unique<ocl::Buffer<cl_uint>>(
         allocate<cl_uint>(d_, entries, fmt::format("the edit lists of level {}", level)));
-    const std::uint64_t span = d_.info().type == "cpu" ? 32 : 1;  // bits per work-item (brick_cull.cl)
+    const std::uint64_t span = bits_per_item(total_words, k.write_k.get(), "cull_write");
     ocl::set_args(k.write_k.get(), parent_lists, bricks, n, static_cast<cl_uint>(total_words), static_cast<cl_uint>(span),
                   words_, bits_, sources_, kept_words_, *lists);
     scheduler_.launch(measure::Stage::cull, level, k.write_k.get(),

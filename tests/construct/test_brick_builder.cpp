@@ -301,7 +301,7 @@ TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
 }
 
 // Skipping the points where a sphere or capsule edit cannot change the fold (BuildSettings::skip_far:
-// the count stage, and the evaluation with one lane) changes no bit: adds and subtracts, smooth and
+// the evaluation with one lane) changes no bit: adds and subtracts, smooth and
 // hard, rotated and scaled, both sample layouts, int8 and float (where the sign of a zero shows),
 // with and without shared aprons, with one lane and with the device's.
 TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
@@ -323,6 +323,33 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
                 EXPECT_EQ(construct::output_digest(b, s), construct::output_digest(full, all)) << where;
                 EXPECT_GE(b.edits_per_leaf_mean, BuildSettings::kLongList) << where;
             }
+        }
+    }
+}
+
+// The count stage's work-items per child (BuildSettings::count_parts: automatic, which is one on a
+// CPU, and 2 and 16, which compute the values in turn and fold them in one) change no bit; nor does
+// culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
+// its levels need (one at the top, up to a word where a level has many bricks). Both the lists and
+// the output are compared: long lists at the top levels, smooth and hard edits, branching 2,
+// adaptive leaves.
+TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
+    const Geometry drops = drops_subset(128), carved = carved_geometry();
+    BuildSettings octree = settings(0.125), dependent = settings(0.125), adaptive = settings(0.0625);
+    octree.branching = 2;
+    dependent.dependencies = true;
+    adaptive.tolerance = 0.01;
+    for (auto [g, s] : {std::pair{&drops, settings(0.0625)}, {&carved, settings(0.125, BrickFormat::float32, 10)},
+                        {&drops, octree}, {&drops, dependent}, {&carved, adaptive}}) {
+        const GeometryBuild automatic = builder().build(*g, s, test::recorder());
+        ASSERT_GT(automatic.leaf_count, 0u);
+        for (int parts : {2, 16}) {
+            BuildSettings split = s;
+            split.count_parts = parts;
+            const GeometryBuild b = builder().build(*g, split, test::recorder());
+            const std::string where = fmt::format("{}, branching {}, count parts {}", g->name, s.branching, parts);
+            EXPECT_EQ(construct::list_digest(b), construct::list_digest(automatic)) << where;
+            EXPECT_EQ(construct::output_digest(b, split), construct::output_digest(automatic, s)) << where;
         }
     }
 }
@@ -484,6 +511,9 @@ TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
     s = settings(0.125);
     s.eval_lanes = 3;
     EXPECT_EQ(refused(s), "eval_lanes");
+    s = settings(0.125);
+    s.count_parts = 6;
+    EXPECT_EQ(refused(s), "count_parts");
     s = settings(0.125);
     s.band_voxels = 0.0;
     EXPECT_EQ(refused(s), "band_voxels");
