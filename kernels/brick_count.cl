@@ -11,7 +11,7 @@
  * The root (the pseudo-parent's only child) is kept without a test where its level is wide: it is
  * the domain itself, one brick, and the long full edit list makes its test the slowest of all.
  * The parent's edits are staged through __local memory in chunks of chunk_size, with the terms of
- * their excess. Where a level has few parents (long lists, few work-groups: bound by latency), the
+ * their excess and their combine as data (sdf_fold_params: the fold has no branch per edit). Where a level has few parents (long lists, few work-groups: bound by latency), the
  * work-group has `parts` work-items per child: they compute the edits' values at the child's centre
  * (which do not depend on the fold) in turn into __local values, and the first folds them in list
  * order, so the bits do not depend on parts. Writes the parent's child mask (bit = Morton index) and
@@ -24,7 +24,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                           float threshold, float clamp_c, float saturation, float reject_slack,
                           float magnitude,
                           __global uint* child_counts,
-                          __local SdfPrepared* chunk, __local float4* terms, uint chunk_size,
+                          __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, uint chunk_size,
                           __local float* values, __local uint* kept) {
     const uint parent = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
@@ -44,6 +44,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
             const SdfPrepared e = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
             chunk[j] = e;
             terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
+            folds[j] = sdf_fold_params(&e);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
         if (parts == 1u) {
@@ -53,7 +54,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                 const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
                 const float v = sdf_prepared_value(&e, meshes, p);
                 if (wide) excess += sdf_saturation_excess(terms[j], v);
-                field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
+                field = fmin(fmax(sdf_fold_select(folds[j], field, v), -saturation), saturation);
             }
         } else {
             for (uint j = part; j < n; j += parts) {
@@ -62,11 +63,11 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
             }
             barrier(CLK_LOCAL_MEM_FENCE);
             if (part == 0u) {
+#pragma unroll 4
                 for (uint j = 0; j < n; ++j) {
-                    const SdfPrepared e = chunk[j];
                     const float v = values[j * children + child];
                     if (wide) excess += sdf_saturation_excess(terms[j], v);
-                    field = fmin(fmax(sdf_combine(&e, field, v), -saturation), saturation);
+                    field = fmin(fmax(sdf_fold_select(folds[j], field, v), -saturation), saturation);
                 }
             }
         }

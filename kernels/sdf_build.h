@@ -87,6 +87,26 @@ inline float sdf_saturation_excess(float4 terms, float v) {
     return (fabs(v - terms.x) < terms.y ? terms.z : 0.0f) + terms.w;
 }
 
+/* An edit's combine as data, for a fold without a branch per edit (a branch serialises the loads of
+ * the edit's parameters from __local memory): (sign of v, k or 0 when hard, k's q, rule: 1 = min
+ * (add), 2 = max (subtract, intersect), 0 = none). sdf_fold_select gives bit for bit what
+ * sdf_combine gives. */
+inline float4 sdf_fold_params(const SdfPrepared* e) {
+    const uint op = (e->kind >> 8) & 0xffu;
+    const float rule = op == SDF_OP_ADD ? 1.0f : (op == SDF_OP_SUBTRACT || op == SDF_OP_INTERSECT) ? 2.0f : 0.0f;
+    return (float4)(op == SDF_OP_SUBTRACT ? -1.0f : 1.0f, e->blend > 0.0f ? e->blend : 0.0f, e->blend_q, rule);
+}
+
+inline float sdf_fold_select(float4 f, float field, float v) {
+    const float b = f.x * v; /* exact: v or -v */
+    const float w = fmax(f.y - fabs(field - b), 0.0f);
+    const float t = w * w * f.z;
+    const float lo = fmin(field, b), hi = fmax(field, b);
+    const int smooth = f.y > 0.0f;
+    const float joined = smooth ? lo - t : lo, cut = smooth ? hi + t : hi;
+    return f.w == 1.0f ? joined : f.w == 2.0f ? cut : field;
+}
+
 /* Centre of cell coord (in cells of size cell) of a lattice whose origin is origin. */
 inline float3 sdf_cell_centre(float3 origin, float cell, int3 coord) {
     return origin + (convert_float3(coord) + 0.5f) * cell;

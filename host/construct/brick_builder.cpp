@@ -384,8 +384,8 @@ private:
 // barriers) as local memory allows (a larger chunk than lists need costs occupancy). Neither
 // changes a bit: the fold is in list order either way.
 BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t children, std::uint64_t mean_list) const {
-    // A staged edit: its prepared form (no larger than SdfEdit) and its excess terms.
-    constexpr std::size_t kStaged = sizeof(SdfEdit) + sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
+    // A staged edit: its prepared form (no larger than SdfEdit), its excess terms and fold parameters.
+    constexpr std::size_t kStaged = sizeof(SdfEdit) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
     const std::size_t local = d_.info().local_mem_bytes - children * sizeof(cl_uint);
     const std::size_t limit = ocl::kernel_work_group_limit(d_, b_.programs_->count_k.get(), "brick_count");
     const auto fits = [&](std::size_t parts) {
@@ -421,7 +421,8 @@ std::uint64_t BrickBuilder::Job::count_and_scan(int level) {
     ocl::set_args(b_.programs_->count_k.get(), edits_, meshes_, *parent_lists_, *parents_, lb, origin_.x, origin_.y, origin_.z,
                   cell(level), plan_.threshold(level), plan_.clamp_c, plan_.saturation(level), plan_.reject_slack(),
                   static_cast<float>(plan_.magnitude), counts_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
-                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, static_cast<cl_uint>(shape.chunk),
+                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
+                  static_cast<cl_uint>(shape.chunk),
                   ocl::LocalMemory{values * sizeof(float)}, ocl::LocalMemory{per_parent * sizeof(cl_uint)});
     scheduler_.launch(measure::Stage::count, level, b_.programs_->count_k.get(), parent_count_ * per_parent * shape.parts,
                       per_parent * shape.parts);
