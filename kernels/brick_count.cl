@@ -18,6 +18,12 @@
  * its child count. */
 #include "sdf_build.h"
 
+/* One step of the fold: edit (terms, fold) of value v. saturation is C where not wide. */
+inline void fold_step(float* field, float* excess, float4 terms, float4 fold, float v, int wide, float saturation) {
+    if (wide) *excess += sdf_saturation_excess(terms, v);
+    *field = fmin(fmax(sdf_fold_select(fold, *field, v), -saturation), saturation);
+}
+
 __kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
@@ -48,13 +54,11 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
         }
         barrier(CLK_LOCAL_MEM_FENCE);
         if (parts == 1u) {
-            /* Unrolled, the values overlap. saturation is C where not wide. */
+            /* Unrolled, the values overlap. */
 #pragma unroll 4
             for (uint j = 0; j < n; ++j) {
                 const SdfPrepared e = chunk[j]; /* OpenCL 1.2 has no generic address space */
-                const float v = sdf_prepared_value(&e, meshes, p);
-                if (wide) excess += sdf_saturation_excess(terms[j], v);
-                field = fmin(fmax(sdf_fold_select(folds[j], field, v), -saturation), saturation);
+                fold_step(&field, &excess, terms[j], folds[j], sdf_prepared_value(&e, meshes, p), wide, saturation);
             }
         } else {
             for (uint j = part; j < n; j += parts) {
@@ -65,9 +69,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
             if (part == 0u) {
 #pragma unroll 4
                 for (uint j = 0; j < n; ++j) {
-                    const float v = values[j * children + child];
-                    if (wide) excess += sdf_saturation_excess(terms[j], v);
-                    field = fmin(fmax(sdf_fold_select(folds[j], field, v), -saturation), saturation);
+                    fold_step(&field, &excess, terms[j], folds[j], values[j * children + child], wide, saturation);
                 }
             }
         }
