@@ -11,11 +11,12 @@
  * The root (the pseudo-parent's only child) is kept without a test where its level is wide: it is
  * the domain itself, one brick, and the long full edit list makes its test the slowest of all.
  * The parent's edits are staged through __local memory in chunks of chunk_size, with the terms of
- * their excess and their combine as data (sdf_fold_params: the fold has no branch per edit). Where a level has few parents (long lists, few work-groups: bound by latency), the
- * work-group has `parts` work-items per child: they compute the edits' values at the child's centre
- * (which do not depend on the fold) in turn into __local values, and the first folds them in list
- * order, so the bits do not depend on parts. Writes the parent's child mask (bit = Morton index) and
- * its child count. */
+ * their excess and their combine as data (sdf_fold_params: the fold has no branch per edit). Where
+ * a level has few parents (long lists, few work-groups: bound by latency), the work-group has
+ * `parts` work-items per child: they compute the edits' values at the child's centre (which do not
+ * depend on the fold) in turn into __local values, and the first folds them in list order, so the
+ * bits do not depend on parts. Writes the parent's child mask (bit = Morton index) and its child
+ * count. */
 #include "sdf_build.h"
 
 /* One step of the fold: edit (terms, fold) of value v. saturation is C where not wide. */

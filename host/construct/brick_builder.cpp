@@ -360,7 +360,8 @@ private:
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;  // every level's records
     std::vector<std::uint64_t> list_entries_;                            // every level's list entries
-    ocl::Buffer<cl_uint> counts_{d_, 0}, offsets_{d_, 0}, words_{d_, 0}, bits_{d_, 0}, sources_{d_, 0}, kept_words_{d_, 0};
+    ocl::Buffer<cl_uint> counts_{d_, 0}, offsets_{d_, 0}, words_{d_, 0}, bits_{d_, 0};
+    ocl::Buffer<cl_uint> sources_{d_, 0}, kept_words_{d_, 0};  // per cull word: its first parent entry, kept count
     std::uint64_t brick_bytes_ = 0, list_bytes_ = 0, scratch_bytes_ = 0;
     std::vector<std::uint64_t> kept_;  // every level's kept bricks (adaptive: leaves and parents)
     // Adaptive builds: each checked level's leaves, their check results and (once the next level's
@@ -404,7 +405,8 @@ BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t childre
             shape.parts *= 2;
     }
     const std::size_t per_edit = kStaged + (shape.parts > 1 ? children * sizeof(float) : 0);
-    const std::size_t wanted = round_up(static_cast<std::size_t>(std::clamp<std::uint64_t>(mean_list, 1, 256)), kMinChunk);
+    const std::size_t wanted =
+        round_up(static_cast<std::size_t>(std::clamp<std::uint64_t>(mean_list, 1, 256)), kMinChunk);
     shape.chunk = std::min({wanted, std::size_t{256}, local / per_edit});
     return shape;
 }
