@@ -337,6 +337,7 @@ private:
         std::size_t chunk = 0;  // edits staged at once
     };
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
+    std::uint64_t resident_items(std::size_t work_group_limit) const;
     std::uint64_t bits_per_item(std::uint64_t words, cl_kernel kernel, std::string_view name) const;
     BrickBuilder& b_;
     ocl::Device& d_;
@@ -379,9 +380,8 @@ private:
 };
 
 // The count stage's work-group: BuildSettings::count_parts work-items per child. Automatic: on GPUs
-// several where the level has too few parents to give every compute unit a full work-group (the top
-// levels: long lists folded by few work-groups, bound by latency), where the values fit in __local
-// memory. Edits are staged in chunks of the parents' mean list, rounded up to 16, up to 256 (fewer
+// as many as keep the level within resident_items (the top levels: long lists folded by few
+// work-groups, bound by latency), where the values fit in __local memory. Edits are staged in chunks of the parents' mean list, rounded up to 16, up to 256 (fewer
 // barriers) as local memory allows (a larger chunk than lists need costs occupancy). Neither
 // changes a bit: the fold is in list order either way.
 BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t children, std::uint64_t mean_list) const {
@@ -389,6 +389,7 @@ BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t childre
     constexpr std::size_t kStaged = sizeof(SdfEdit) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
     const std::size_t local = d_.info().local_mem_bytes - children * sizeof(cl_uint);
     const std::size_t limit = ocl::kernel_work_group_limit(d_, b_.programs_->count_k.get(), "brick_count");
+    const std::uint64_t resident = resident_items(limit);
     const auto fits = [&](std::size_t parts) {
         return children * parts <= limit && (parts == 1 || kMinChunk * (kStaged + children * sizeof(float)) <= local);
     };
@@ -401,7 +402,7 @@ BrickBuilder::Job::CountShape BrickBuilder::Job::count_shape(std::size_t childre
                                                           s_.count_parts, d_.info().name, limit, local));
     } else if (d_.info().type == "gpu") {
         while (shape.parts * 2 <= kMaxParts && fits(shape.parts * 2) &&
-               parent_count_ * children * shape.parts * 2 <= d_.info().compute_units * limit)
+               parent_count_ * children * shape.parts * 2 <= resident)
             shape.parts *= 2;
     }
     const std::size_t per_edit = kStaged + (shape.parts > 1 ? children * sizeof(float) : 0);
@@ -470,11 +471,16 @@ void BrickBuilder::Job::cull(int level, std::uint64_t children) {
     list_entries_.push_back(children * edits_host_.size());
 }
 
+// What the device runs of a kernel at once, as the count and cull stages size their work: compute
+// units times the kernel's work-group limit.
+std::uint64_t BrickBuilder::Job::resident_items(std::size_t work_group_limit) const {
+    return std::uint64_t{d_.info().compute_units} * work_group_limit;
+}
+
 // The bits of the cull bit sets per work-item of cull_mark and cull_write (a power of two up to 32):
-// the fewest that keep the work-items within what the device runs at once (compute units times the
-// kernel's work-group limit). Changes no bit.
+// the fewest that keep the work-items within resident_items. Changes no bit.
 std::uint64_t BrickBuilder::Job::bits_per_item(std::uint64_t words, cl_kernel kernel, std::string_view name) const {
-    const std::uint64_t resident = std::uint64_t{d_.info().compute_units} * ocl::kernel_work_group_limit(d_, kernel, name);
+    const std::uint64_t resident = resident_items(ocl::kernel_work_group_limit(d_, kernel, name));
     std::uint64_t span = 1;
     while (span < 32 && words * 32 / span > resident) span *= 2;
     return span;

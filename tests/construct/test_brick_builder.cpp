@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <set>
 #include <tuple>
 
@@ -13,6 +14,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include "cl/launch.h"
+#include "cl/program.h"
 #include "construct/brick_builder.h"
 #include "core/errors.h"
 #include "reference/reference_field.h"
@@ -351,6 +354,51 @@ TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
             EXPECT_EQ(construct::list_digest(b), construct::list_digest(automatic)) << where;
             EXPECT_EQ(construct::output_digest(b, split), construct::output_digest(automatic, s)) << where;
         }
+    }
+}
+
+// The count stage folds with sdf_fold_select, a copy of sdf_combine without branches: bit for bit
+// the same result for every operation, hard and smooth (blend 0, NaN and negative count as hard),
+// with fields and values that are signed zeros, tiny, in and beyond the blend, infinite or NaN.
+TEST(ConstructBuild, FoldWithoutBranchesGivesTheCombinesBits) {
+    ocl::Device& device = test::device();
+    const ocl::Kernel kernel = ocl::make_kernel(ocl::build_program(device, "fold_probe.cl"), "fold_probe");
+    std::vector<SdfEdit> edits;
+    for (cl_uint op : {SDF_OP_ADD, SDF_OP_SUBTRACT, SDF_OP_INTERSECT})
+        for (float blend : {0.0f, 0.05f, 0.3f, 2.0f, -0.1f, std::nanf("")}) {
+            SdfEdit e{};
+            e.transform.scale = 1.0f;
+            e.transform.rotation[3] = 1.0f;
+            e.inv_lipschitz = 1.0f;
+            e.blend = blend;
+            e.primitive = SDF_PRIM_SPHERE;
+            e.op = op;
+            edits.push_back(e);
+        }
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+    const std::vector<float> points = {-0.0f, 0.0f, 1e-30f, -1e-30f, 0.01f, -0.01f, 0.2f, -0.2f, 0.6546f, -0.7f, 3.0f,
+                                       -3.0f, inf, -inf, nan};
+    std::vector<float> fields, values;
+    for (float f : points)
+        for (float v : points) {
+            fields.push_back(f);
+            values.push_back(v);
+        }
+    const auto n = static_cast<cl_uint>(edits.size()), pairs = static_cast<cl_uint>(fields.size());
+    ocl::Buffer<SdfEdit> edit_buffer(device, edits);
+    ocl::Buffer<float> field_buffer(device, fields), value_buffer(device, values), out(device, 2 * n * pairs);
+    ocl::set_args(kernel.get(), edit_buffer, field_buffer, value_buffer, n, pairs, out);
+    ocl::enqueue(device, kernel.get(), "fold_probe", std::size_t{n} * pairs);
+    const std::vector<float> got = out.read();
+    for (std::size_t i = 0; i < std::size_t{n} * pairs; ++i) {
+        const float combine = got[2 * i], select = got[2 * i + 1];
+        std::uint32_t a = 0, b = 0;
+        std::memcpy(&a, &combine, sizeof a);
+        std::memcpy(&b, &select, sizeof b);
+        const SdfEdit& e = edits[i / pairs];
+        EXPECT_TRUE(a == b || (std::isnan(combine) && std::isnan(select)))
+            << "op " << e.op << ", blend " << e.blend << ", field " << fields[i % pairs] << ", value "
+            << values[i % pairs] << ": combine " << combine << ", select " << select;
     }
 }
 
