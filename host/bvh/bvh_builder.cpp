@@ -79,7 +79,8 @@ BvhBuilder::~BvhBuilder() = default;
 // to root_boxes[slot]. Scratch buffers hold at least n entries.
 struct TreeScratch {
     ocl::Buffer<cl_uint> node_parent, leaf_parent, arrivals;
-    TreeScratch(ocl::Device& d, std::size_t n) : node_parent(d, n), leaf_parent(d, n), arrivals(d, n) {}
+    TreeScratch(ocl::Device& d, std::size_t n)
+        : node_parent(ocl::pooled, d, n), leaf_parent(ocl::pooled, d, n), arrivals(ocl::pooled, d, n) {}
     std::uint64_t bytes() const { return node_parent.bytes() + leaf_parent.bytes() + arrivals.bytes(); }
 };
 
@@ -175,9 +176,9 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
         total_nodes += nodes_for(b.leaf_count);
         max_leaves = std::max<std::size_t>(max_leaves, b.leaf_count);
     }
-    out.nodes = std::make_unique<ocl::Buffer<SdfBvhNode>>(device_, total_nodes);
+    out.nodes = std::make_unique<ocl::Buffer<SdfBvhNode>>(ocl::pooled, device_, total_nodes);
     out.node_count = total_nodes;
-    ocl::Buffer<cl_ulong> keys(device_, max_leaves);
+    ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, max_leaves);
     TreeScratch scratch(device_, max_leaves);
     std::size_t offset = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {

@@ -1,5 +1,7 @@
 // Typed device buffers. Buffer<T> owns a cl_mem of count elements of T on one Device; reads and
-// writes are blocking and go through the device's queue. A zero-element buffer is valid (OpenCL
+// writes are blocking and go through the device's queue. A buffer made with ocl::pooled takes its
+// memory from the device's MemoryPool where a kept object fits (cl/memory_pool.h) and gives it back
+// when it goes; its capacity may then exceed its size. A zero-element buffer is valid (OpenCL
 // forbids zero-byte allocations, so one element is allocated and size() stays 0). A buffer larger
 // than the device's CL_DEVICE_MAX_MEM_ALLOC_SIZE is refused (CL_INVALID_BUFFER_SIZE) on every device;
 // on a CPU device, so is one the host has no memory left for (cl/host_memory.h).
@@ -9,6 +11,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -19,10 +22,15 @@
 
 #include "cl/device.h"
 #include "cl/host_memory.h"
+#include "cl/memory_pool.h"
 #include "core/fault.h"
 #include "cl/handles.h"
 
 namespace sdfbrick::ocl {
+
+// Tag: a buffer whose memory comes from and goes back to its device's MemoryPool.
+struct Pooled {};
+inline constexpr Pooled pooled{};
 
 template <class T>
 class Buffer {
@@ -52,6 +60,7 @@ public:
         }
         if (status == CL_SUCCESS) {
             memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));
+            capacity_ = allocated;
         }
         if (status != CL_SUCCESS) {
             throw ClError(status, fmt::format("allocating a buffer of {} bytes ({} elements of {} bytes) on {} "
@@ -61,11 +70,40 @@ public:
         }
     }
 
-    Buffer(Buffer&&) noexcept = default;
-    Buffer& operator=(Buffer&&) noexcept = default;
+    // count elements (read-write) from the device's pool where kept memory fits, else newly
+    // allocated with some headroom (pooled_capacity) and the same checks as above.
+    Buffer(Pooled, Device& device, std::size_t count) : device_(&device), count_(count) {
+        const std::size_t wanted = count == 0 ? sizeof(T) : count * sizeof(T);
+        if (count > std::numeric_limits<std::size_t>::max() / sizeof(T) || wanted > device.info().max_alloc_bytes) {
+            *this = Buffer(device, count);  // throws the plain constructor's error
+            return;
+        }
+        memory_ = device.memory_pool()->take(wanted, capacity_);
+        if (!memory_) {
+            Buffer fresh(device, pooled_capacity(wanted, device.info().max_alloc_bytes) / sizeof(T));
+            memory_ = std::move(fresh.memory_);
+            capacity_ = fresh.capacity_;
+        }
+        pool_ = device.memory_pool();
+    }
+
+    Buffer(Buffer&& o) noexcept
+        : device_(o.device_), count_(o.count_), capacity_(o.capacity_), memory_(std::move(o.memory_)),
+          pool_(std::move(o.pool_)) {}
+    Buffer& operator=(Buffer&& o) noexcept {
+        if (this != &o) {
+            give_back();
+            device_ = o.device_;
+            count_ = o.count_;
+            capacity_ = o.capacity_;
+            memory_ = std::move(o.memory_);
+            pool_ = std::move(o.pool_);
+        }
+        return *this;
+    }
     Buffer(const Buffer&) = delete;  // two owners of one allocation would be a surprise
     Buffer& operator=(const Buffer&) = delete;
-    ~Buffer() = default;
+    ~Buffer() { give_back(); }
 
     // Allocates data.size() elements and writes data.
     Buffer(Device& device, std::span<const T> data, cl_mem_flags flags = CL_MEM_READ_WRITE)
@@ -75,6 +113,7 @@ public:
 
     std::size_t size() const { return count_; }
     std::size_t bytes() const { return count_ * sizeof(T); }
+    std::size_t capacity_bytes() const { return capacity_; }  // allocated (pooled buffers: at least bytes())
     cl_mem get() const { return memory_.get(); }
     Device& device() const { return *device_; }
 
@@ -131,9 +170,22 @@ private:
         }
     }
 
+    void give_back() noexcept {
+        if (pool_ && memory_) {
+            try {
+                pool_->give(std::move(memory_), capacity_);
+            } catch (...) {  // no memory for the pool's list: the object is released instead
+            }
+        }
+        memory_.reset();
+        pool_.reset();
+    }
+
     Device* device_;
     std::size_t count_;
+    std::size_t capacity_ = 0;
     MemObject memory_;
+    std::shared_ptr<MemoryPool> pool_;  // pooled buffers only
 };
 
 }  // namespace sdfbrick::ocl

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/handles.h"
+#include "cl/memory_pool.h"
 
 namespace sdfbrick::ocl {
 
@@ -113,6 +115,9 @@ public:
     // Blocks until every command of the queue has completed.
     void finish();
 
+    // The memory that pooled buffers of this device keep between passes (cl/memory_pool.h).
+    const std::shared_ptr<MemoryPool>& memory_pool() const { return memory_pool_; }
+
     // In-memory program cache, used by build_program.
     const Program* find_program(std::string_view key) const;
     // The remembered program with this handle (e.g. from CL_KERNEL_PROGRAM), or nullptr.
@@ -125,6 +130,7 @@ private:
     Context context_;
     Queue queue_;
     std::vector<Program> programs_;
+    std::shared_ptr<MemoryPool> memory_pool_ = std::make_shared<MemoryPool>();
 };
 
 // One or more opened devices, possibly of different platforms (one context per device).

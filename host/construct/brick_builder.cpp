@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <bit>
+#include <cstddef>
 #include <numeric>
 #include <stdexcept>
 
@@ -72,6 +73,21 @@ struct BrickBuilder::Programs {
     ocl::Program count, subdivide, cull, aabb, order;
     ocl::Kernel count_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
+    struct Stats {  // brick_stats.cl for one brick layout
+        ocl::Program program;
+        ocl::Kernel level, leaf;
+    };
+    std::map<std::string, Stats> stats_by_layout;
+    const Stats& stats(ocl::Device& d, const BrickLayout& layout) {
+        const std::string defines = layout.defines();
+        auto it = stats_by_layout.find(defines);
+        if (it == stats_by_layout.end()) {
+            ocl::Program p = ocl::build_program(d, "brick_stats.cl", defines);
+            ocl::Kernel level = ocl::make_kernel(p, "level_stats"), leaf = ocl::make_kernel(p, "leaf_stats");
+            it = stats_by_layout.emplace(defines, Stats{std::move(p), std::move(level), std::move(leaf)}).first;
+        }
+        return it->second;
+    }
 
     explicit Programs(ocl::Device& d)
         : count(ocl::build_program(d, "brick_count.cl")), subdivide(ocl::build_program(d, "brick_subdivide.cl")),
@@ -100,7 +116,7 @@ std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m;
 template <class T>
 ocl::Buffer<T> allocate(ocl::Device& d, std::size_t count, std::string_view what) {
     try {
-        return ocl::Buffer<T>(d, count);
+        return ocl::Buffer<T>(ocl::pooled, d, count);
     } catch (const ocl::ClError& e) {
         throw SettingError("leaf_size",
                            fmt::format("{} needs {} bytes ({} x {} bytes); {} allows at most {} bytes in one buffer and "
@@ -310,8 +326,15 @@ public:
         std::optional<ocl::Kernel> copy;
     };
     ApronSharing share_aprons(std::uint64_t leaf_count, int share_edits);
+    // The report's counters (count_on_device): per level its records, longest list and cull tests of
+    // its children; over the leaves their list entries, longest list, FLOPs and evaluations.
+    struct Counters {
+        std::vector<std::uint64_t> records, longest, tests;
+        std::uint64_t entries = 0, longest_leaf = 0, entry_flops = 0, flops = 0, evaluations = 0;
+    };
+    Counters count_on_device(std::uint64_t leaf_count);
     void report(std::uint64_t leaf_count);
-    void report_flops(std::uint64_t leaf_count);
+    void report_flops(std::uint64_t leaf_count, const Counters& c);
     void add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes);
 
     std::size_t parent_count() const { return parent_count_; }
@@ -690,33 +713,80 @@ BrickBuilder::Job::ApronSharing BrickBuilder::Job::share_aprons(std::uint64_t le
     return a;
 }
 
-// Bricks, list lengths, work and times per level (reads the records back; not part of device time).
+// The report's counters of the records and lists, reduced on the device (kernels/brick_stats.cl):
+// every level's and the leaves' partials land in one buffer that one read brings back.
+BrickBuilder::Job::Counters BrickBuilder::Job::count_on_device(std::uint64_t leaf_count) {
+    static constexpr std::size_t kGroup = 64, kGroups = 64;  // STATS_GROUP; work-groups per reduction at most
+    const auto groups = [](std::uint64_t n) { return std::min<std::size_t>((n + kGroup - 1) / kGroup, kGroups); };
+    const std::size_t levels = level_bricks_.size(), leaf_base = 2 * kGroups * levels;
+    const Programs::Stats& k = b_.programs_->stats(d_, s_.layout());
+    ocl::Buffer<cl_ulong> partial(ocl::pooled, d_, leaf_base + 5 * kGroups);
+    Counters c;
+    c.records.resize(levels);
+    std::vector<std::size_t> launched(levels, 0);
+    for (std::size_t l = 0; l < levels; ++l) {
+        c.records[l] = level_bricks_[l] ? level_bricks_[l]->size() : 0;
+        if (c.records[l] == 0) continue;
+        launched[l] = groups(c.records[l]);
+        ocl::set_args(k.level.get(), *level_bricks_[l], static_cast<cl_uint>(c.records[l]), partial,
+                      static_cast<cl_uint>(2 * kGroups * l));
+        ocl::enqueue(d_, k.level.get(), "level_stats", launched[l] * kGroup, kGroup);
+    }
+    const std::size_t leaf_groups = leaf_count > 0 ? groups(leaf_count) : 0;
+    if (leaf_groups > 0) {
+        std::vector<cl_uint> flops(edits_host_.size());
+        for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = static_cast<cl_uint>(edit_flops(edits_host_[i]));
+        const ocl::Buffer<cl_uint> flops_d(d_, std::span<const cl_uint>(flops), CL_MEM_READ_ONLY);
+        ocl::set_args(k.leaf.get(), leaves(), static_cast<cl_uint>(leaf_count), *parent_lists_, flops_d,
+                      owned_ ? *owned_ : empty_uints_, static_cast<cl_uint>(owned_ ? 1 : 0), partial,
+                      static_cast<cl_uint>(leaf_base));
+        ocl::enqueue(d_, k.leaf.get(), "leaf_stats", leaf_groups * kGroup, kGroup);
+    }
+    const std::vector<cl_ulong> p = partial.read();
+    c.longest.assign(levels, 0);
+    c.tests.assign(levels, 0);
+    for (std::size_t l = 0; l < levels; ++l)
+        for (std::size_t g = 0; g < launched[l]; ++g) {
+            c.longest[l] = std::max(c.longest[l], p[2 * kGroups * l + 2 * g]);
+            c.tests[l] += p[2 * kGroups * l + 2 * g + 1];
+        }
+    for (std::size_t g = 0; g < leaf_groups; ++g) {
+        const cl_ulong* v = &p[leaf_base + 5 * g];
+        c.entries += v[0];
+        c.longest_leaf = std::max<std::uint64_t>(c.longest_leaf, v[1]);
+        c.entry_flops += v[2];
+        c.flops += v[3];
+        c.evaluations += v[4];
+    }
+    return c;
+}
+
+// Bricks, list lengths, work and times per level, from the counters reduced on the device (not part
+// of device time).
 void BrickBuilder::Job::report(std::uint64_t leaf_count) {
+    const Counters c = count_on_device(leaf_count);
     std::uint64_t evaluations = 0;
     std::uint64_t prev_entries = edits_host_.size();  // the pseudo-parent's list
-    std::vector<SdfBrick> prev{pseudo_};
+    std::uint64_t prev_records = 1, prev_tests = 0;
     for (std::size_t l = 0; l < level_bricks_.size(); ++l) {
         // Adaptive builds keep only the parents of each level here (the finest level: none).
-        const std::vector<SdfBrick> records = level_bricks_[l] ? level_bricks_[l]->read() : std::vector<SdfBrick>{};
+        const std::uint64_t records = c.records[l];
         LevelReport r;
         r.level = static_cast<int>(l);
         r.cell_size = plan_.domain.cell_size(r.level);
-        r.bricks = l < kept_.size() ? kept_[l] : records.size();
+        r.bricks = l < kept_.size() ? kept_[l] : records;
         r.leaves = s_.adaptive() ? 0 : (r.level == plan_.finest() ? r.bricks : 0);
         for (const LevelLeaves& leaves : level_leaves_)
             if (leaves.level == r.level) r.leaves = leaves.count;
         r.edit_entries = l < list_entries_.size() ? list_entries_[l] : 0;
-        for (const SdfBrick& b : records) r.max_edits = std::max(r.max_edits, b.edit_count);
+        r.max_edits = static_cast<std::uint32_t>(c.longest[l]);
         const std::uint64_t counted = prev_entries * (l == 0 ? 1 : plan_.per_parent);  // every candidate child of every parent
-        add_work(measure::Stage::count, counted, prev.size() * (sizeof(SdfBrick) + sizeof(cl_uint)) + prev_entries * kEntryBytes);
+        add_work(measure::Stage::count, counted, prev_records * (sizeof(SdfBrick) + sizeof(cl_uint)) + prev_entries * kEntryBytes);
         std::uint64_t culled = 0;
-        if (s_.cull) {
-            for (const SdfBrick& p : prev)  // cull: each kept child tests its parent's list
-                culled += static_cast<std::uint64_t>(p.edit_count) *
-                          (l == 0 ? records.size()
-                                  : static_cast<std::size_t>(std::popcount(p.child_mask[0]) + std::popcount(p.child_mask[1])));
+        if (s_.cull) {  // cull: each kept child tests its parent's list
+            culled = l == 0 ? edits_host_.size() * records : prev_tests;
             add_work(measure::Stage::cull, culled,
-                     records.size() * sizeof(SdfBrick) + culled * kEntryBytes + r.edit_entries * sizeof(cl_uint));
+                     records * sizeof(SdfBrick) + culled * kEntryBytes + r.edit_entries * sizeof(cl_uint));
         }
         evaluations += counted + culled;
         r.count_ms = scheduler_.stage_ms(measure::Stage::count, r.level, out_.first_launch);
@@ -725,15 +795,12 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
         r.cull_ms = scheduler_.stage_ms(measure::Stage::cull, r.level, out_.first_launch);
         out_.level_reports.push_back(r);
         prev_entries = r.edit_entries;
-        prev = records;
+        prev_records = records;
+        prev_tests = c.tests[l];
     }
     if (leaf_count > 0 && s_.adaptive()) {
-        std::uint64_t entries = 0;
-        for (const SdfBrick& b : leaves().read()) {
-            entries += b.edit_count;
-            out_.edits_per_leaf_max = std::max(out_.edits_per_leaf_max, b.edit_count);
-        }
-        out_.edits_per_leaf_mean = static_cast<double>(entries) / static_cast<double>(leaf_count);
+        out_.edits_per_leaf_mean = static_cast<double>(c.entries) / static_cast<double>(leaf_count);
+        out_.edits_per_leaf_max = static_cast<std::uint32_t>(c.longest_leaf);
         std::vector<double> errors;
         check_errors(errors);
         std::sort(errors.begin(), errors.end());
@@ -744,7 +811,7 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
         out_.edits_per_leaf_mean = static_cast<double>(leaf.edit_entries) / static_cast<double>(leaf_count);
         out_.edits_per_leaf_max = leaf.max_edits;
     }
-    report_flops(leaf_count);
+    report_flops(leaf_count, c);
     out_.edit_evaluations = evaluations + out_.work[measure::Stage::evaluate].evaluations;
     out_.memory["brick pool"] = out_.pool->bytes();
     out_.memory["brick records"] = brick_bytes_;
@@ -755,34 +822,15 @@ void BrickBuilder::Job::report(std::uint64_t leaf_count) {
     out_.memory["scratch"] = scratch_bytes_;
 }
 
-// Evaluate's work from the leaves' lists and owned samples (read back), and the FLOPs of count and
-// cull from the mean FLOPs of a leaf list entry.
-void BrickBuilder::Job::report_flops(std::uint64_t leaf_count) {
-    std::vector<double> flops(edits_host_.size());
-    for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = edit_flops(edits_host_[i]);
+// Evaluate's work from the leaves' lists and owned samples, and the FLOPs of count and cull from the
+// mean FLOPs of a leaf list entry.
+void BrickBuilder::Job::report_flops(std::uint64_t leaf_count, const Counters& c) {
     const BrickLayout layout = s_.layout();
-    double entry_flops = 0.0, evaluate_flops = 0.0;
-    std::uint64_t entries = 0, evaluations = 0;
-    if (leaf_count > 0) {
-        const std::vector<cl_uint> lists = parent_lists_->read();
-        const std::vector<cl_uint> owned = owned_ ? owned_->read() : std::vector<cl_uint>{};
-        const std::vector<SdfBrick> bricks = leaves().read();
-        for (std::size_t i = 0; i < bricks.size(); ++i) {
-            const SdfBrick& b = bricks[i];
-            double brick_flops = 0.0;
-            for (std::uint32_t j = 0; j < b.edit_count; ++j) brick_flops += flops[lists[b.edit_offset + j]];
-            const std::size_t samples = owned.empty() ? layout.samples_per_brick() : layout.owned_samples(owned[i]);
-            entry_flops += brick_flops;
-            evaluate_flops += brick_flops * static_cast<double>(samples);
-            entries += b.edit_count;
-            evaluations += b.edit_count * samples;
-        }
-    }
-    add_work(measure::Stage::evaluate, evaluations,
-             leaf_count * (sizeof(SdfBrick) + sizeof(cl_uint) + layout.brick_bytes()) + entries * kEntryBytes);
-    const double mean = entries > 0 ? entry_flops / static_cast<double>(entries) : 0.0;
+    add_work(measure::Stage::evaluate, c.evaluations,
+             leaf_count * (sizeof(SdfBrick) + sizeof(cl_uint) + layout.brick_bytes()) + c.entries * kEntryBytes);
+    const double mean = c.entries > 0 ? static_cast<double>(c.entry_flops) / static_cast<double>(c.entries) : 0.0;
     for (auto& [stage, w] : out_.work) w.flop = static_cast<double>(w.evaluations) * mean;
-    out_.work[measure::Stage::evaluate].flop = evaluate_flops;
+    out_.work[measure::Stage::evaluate].flop = static_cast<double>(c.flops);
 }
 
 void BrickBuilder::Job::add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes) {
@@ -837,30 +885,58 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
     return out;
 }
 
-std::string output_digest(const GeometryBuild& b, const BuildSettings& s) {
+namespace {
+
+// The leaf records' part of the output digest: coordinates, and levels in adaptive builds.
+ocl::Records coordinate_records(const GeometryBuild& b, const BuildSettings& s) {
+    return {b.leaves->size(), sizeof(SdfBrick), offsetof(SdfBrick, coord), s.adaptive() ? 4 * sizeof(sdf_u32) : 3 * sizeof(sdf_i32)};
+}
+
+std::string output_digest_of(const GeometryBuild& b, const BuildSettings& s, std::uint64_t coordinates, std::uint64_t pool) {
+    static_assert(offsetof(SdfBrick, level) == 3 * sizeof(sdf_i32), "a leaf's level follows its coordinate");
     Fnv1a64 h;
     const std::array<float, 4> domain{b.origin.x, b.origin.y, b.origin.z, b.leaf_size};
     h.add_values(std::span<const float>(domain));
     const std::array<std::int32_t, 3> layout{s.samples, static_cast<std::int32_t>(s.format), static_cast<std::int32_t>(b.leaf_count)};
     h.add_values(std::span<const std::int32_t>(layout));
-    for (const SdfBrick& r : b.leaves->read()) {
-        h.add_values(std::span<const sdf_i32>(r.coord, 3));
-        if (s.adaptive()) h.add_values(std::span<const sdf_u32>(&r.level, 1));  // coordinates are per level
+    const std::array<std::uint64_t, 2> parts{coordinates, pool};
+    return h.add_values(std::span<const std::uint64_t>(parts)).hex();
+}
+
+}  // namespace
+
+std::string output_digest(const GeometryBuild& b, const BuildSettings& s, ocl::DeviceDigest& digest) {
+    return output_digest_of(b, s, digest.digest(b.leaves->get(), coordinate_records(b, s)), digest.bytes(*b.pool));
+}
+
+std::string list_digest(const GeometryBuild& b, ocl::DeviceDigest& digest) {
+    return fmt::format("{:016x}", digest.leaf_lists(*b.leaves, *b.leaf_edit_indices));
+}
+
+std::string output_digest(const GeometryBuild& b, const BuildSettings& s) {
+    const ocl::Records w = coordinate_records(b, s);
+    const std::vector<SdfBrick> leaves = b.leaves->read();
+    std::vector<std::byte> coordinates;
+    for (const SdfBrick& r : leaves) {
+        const auto bytes = std::as_bytes(std::span(&r, 1)).subspan(w.first, w.take);
+        coordinates.insert(coordinates.end(), bytes.begin(), bytes.end());
     }
     const std::vector<std::uint8_t> pool = b.pool->read();
-    h.add_values(std::span<const std::uint8_t>(pool));
-    return h.hex();
+    return output_digest_of(b, s, tree_digest(coordinates, ocl::DeviceDigest::block_bytes(w.take)),
+                            tree_digest(std::as_bytes(std::span(pool))));
 }
 
 std::string list_digest(const GeometryBuild& b) {
-    Fnv1a64 h;
     const std::vector<SdfBrick> leaves = b.leaves->read();
     const std::vector<cl_uint> indices = b.leaf_edit_indices->read();
+    std::vector<std::uint64_t> per_leaf;
     for (const SdfBrick& r : leaves) {
+        Fnv1a64 h;
         h.add_values(std::span<const sdf_i32>(r.coord, 3));
         h.add_values(std::span<const cl_uint>(indices.data() + r.edit_offset, r.edit_count));
+        per_leaf.push_back(h.value());
     }
-    return h.hex();
+    return fmt::format("{:016x}", tree_digest(std::as_bytes(std::span(per_leaf))));
 }
 
 }  // namespace sdfbrick::construct

@@ -23,6 +23,7 @@
 #include "measure/scheduler.h"
 #include "cl/buffer.h"
 #include "cl/device.h"
+#include "cl/digest.h"
 #include "cl/program.h"
 #include "scene/scene.h"
 #include "sdf_types.h"
@@ -160,9 +161,14 @@ private:
     std::unique_ptr<Programs> programs_;
 };
 
-// Digest of a build's output: leaf coordinates, domain, layout and every pool byte (reads the pool
-// back). Equal iff the bricks and pools are bit-identical. Edit lists are not part of it (culling
-// changes them by design); list_digest covers them.
+// Digest of a build's output: domain, layout, and the tree digests (core/hash.h) of the leaf
+// coordinates (and levels, when adaptive) and of every pool byte. Equal iff the bricks and pools are
+// bit-identical. Edit lists are not part of it (culling changes them by design); list_digest covers
+// them (the tree digest of each leaf's FNV-1a 64 of its coordinate and list). With a DeviceDigest
+// they are computed on the device (8 bytes cross); without, the buffers are read back and hashed on
+// the host (the same values: the tests' twin).
+std::string output_digest(const GeometryBuild& b, const BuildSettings& s, ocl::DeviceDigest& digest);
+std::string list_digest(const GeometryBuild& b, ocl::DeviceDigest& digest);
 std::string output_digest(const GeometryBuild& b, const BuildSettings& s);
 std::string list_digest(const GeometryBuild& b);
 

@@ -35,6 +35,15 @@ private:
     std::uint64_t state_ = 0xCBF29CE484222325ull;
 };
 
+// The tree digest: a stream of bytes cut into blocks of block_bytes (the last may be shorter), each
+// block's FNV-1a 64, and the same again over those digests (8 bytes each, little-endian, blocks of
+// kTreeDigestBlock bytes) until one value is left. A stream of one block is its FNV-1a 64; an empty
+// stream is FNV-1a 64's offset basis. The blocks can be hashed in parallel, so a device computes
+// the same value over bytes it keeps (cl/digest.h, kernels/digest.cl): equal iff the streams are
+// equal (up to the usual 64-bit collision odds).
+inline constexpr std::size_t kTreeDigestBlock = 4096;
+std::uint64_t tree_digest(std::span<const std::byte> stream, std::size_t block_bytes = kTreeDigestBlock);
+
 // SipHash-2-4 (Aumasson and Bernstein) with a 128-bit key, fed incrementally.
 class SipHash24 {
 public:

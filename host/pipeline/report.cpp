@@ -166,6 +166,7 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device) {
     f.construction = construction_figures(run);
     f.stages = run.stages;
     f.total_ms = run.total_ms;
+    f.wall_ms = run.wall_ms;
     f.captures = run.captures.size();
     f.identical = run.identical;
     f.kernels = measure::kernel_rows(run.captures, device);
@@ -237,6 +238,7 @@ nlohmann::json to_json(const BuildFigures& f) {
             {"device_ms", f.total_ms.median},
             {"host_ms", c.host_ms},
             {"total_ms", measure::to_json(f.total_ms)},
+            {"wall_ms", measure::to_json(f.wall_ms)},
             {"captures", {{"repeat", f.captures}, {"identical", f.identical}}},
             {"kernels", measure::to_json(f.kernels)},
             {"memory", c.memory},
@@ -254,8 +256,8 @@ std::string to_text(const BuildFigures& f, bool kernel_table) {
     std::string stages;
     for (const auto& st : f.stages)
         stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", to_string(st.stage), st.ms.median);
-    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms\n", f.captures > 1 ? ", medians" : "", stages,
-                     f.total_ms.median);
+    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms; wall {:.3f} ms a capture\n",
+                     f.captures > 1 ? ", medians" : "", stages, f.total_ms.median, f.wall_ms.median);
     if (f.captures > 1) {
         s += fmt::format("  total over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n", f.captures,
                          f.total_ms.median, f.total_ms.min, f.total_ms.max, 100.0 * f.total_ms.cv);
@@ -292,6 +294,8 @@ RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::Dev
     f.build_ms = run.build_ms;
     f.bvh_ms = run.bvh_ms;
     f.trace_ms = run.trace_ms;
+    f.total_ms = run.total_ms;
+    f.wall_ms = run.wall_ms;
     f.warmup = spec.warmup;
     f.captures = run.captures.size();
     f.identical = run.identical;
@@ -302,7 +306,7 @@ RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::Dev
     f.group_y = spec.trace.group_y;
     f.shade = spec.trace.shade;
     if (run.trace) {
-        f.work = render::work_counts(run.trace->buffer);
+        f.work = run.trace->work.per_pixel();
         f.warnings = run.trace->warnings;
     }
     f.digest = run.trace_digest;
@@ -317,6 +321,8 @@ nlohmann::json to_json(const RenderFigures& f) {
             {"build_ms", measure::to_json(f.build_ms)},
             {"bvh_ms", measure::to_json(f.bvh_ms)},
             {"trace_ms", measure::to_json(f.trace_ms)},
+            {"total_ms", measure::to_json(f.total_ms)},
+            {"wall_ms", measure::to_json(f.wall_ms)},
             {"captures", {{"warmup", f.warmup}, {"repeat", f.captures}, {"identical", f.identical}}},
             {"bricks", f.construction.bricks},
             {"bvh", {{"nodes", f.bvh.nodes}, {"tlas_nodes", f.bvh.tlas_nodes}, {"instances", f.bvh.instances},
@@ -335,9 +341,11 @@ std::string to_text(const RenderFigures& f, bool kernel_table) {
     const std::string shade =
         f.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(f.stages, measure::Stage::shade)) : "";
     std::string s = fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
-                                "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}\n",
+                                "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}; device {:.3f} ms, "
+                                "wall {:.3f} ms a capture\n",
                                 f.build_ms.median, f.construction.bricks, f.bvh_ms.median, f.bvh.nodes,
-                                f.trace_ms.median, f.rays_per_second(), f.work.node_visits, f.work.brick_steps, shade);
+                                f.trace_ms.median, f.rays_per_second(), f.work.node_visits, f.work.brick_steps, shade,
+                                f.total_ms.median, f.wall_ms.median);
     for (const render::TraceWarning& w : f.warnings) s += "  warning: " + w.message + "\n";
     if (f.captures > 1) s += measure::stage_table_text(f.stages, f.identical);
     if (kernel_table) s += measure::kernel_table_text(f.kernels);

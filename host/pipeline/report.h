@@ -76,6 +76,7 @@ struct BuildFigures {
     ConstructionFigures construction;
     std::vector<measure::StageStats> stages;
     measure::Spread total_ms;
+    measure::Spread wall_ms;  // each capture's wall time (pipeline::Run::wall_ms)
     std::size_t captures = 0;
     bool identical = true;  // every capture gave the same bricks, pools and edit lists
     std::vector<measure::KernelRow> kernels;
@@ -90,7 +91,7 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device);
 // Fills every level's reference_cells with the host reference's surface cells of that level
 // (reference::count_surface_cells over the same domain). scene: the one that was built.
 void add_reference_levels(ConstructionFigures& c, const Scene& scene, const construct::BuildSettings& s);
-// {"bricks", "digest", "list_digest", "stages", "device_ms", "host_ms", "total_ms", "captures",
+// {"bricks", "digest", "list_digest", "stages", "device_ms", "host_ms", "total_ms", "wall_ms", "captures",
 //  "kernels", "memory", "edits_per_leaf", "edit_evaluations", "bricks_per_second",
 //  "edit_evaluations_per_second", "geometries", "roofline"} (docs/measurement.md)
 nlohmann::json to_json(const BuildFigures& f);
@@ -113,6 +114,7 @@ struct RenderFigures {
     double voxel_world = 0.0;
     std::vector<measure::StageStats> stages;
     measure::Spread build_ms, bvh_ms, trace_ms;
+    measure::Spread total_ms, wall_ms;  // device time of all launches, and wall time, per capture
     int warmup = 0;
     std::size_t captures = 0;
     bool identical = true;  // every capture gave the same bricks and image
@@ -129,7 +131,7 @@ struct RenderFigures {
 };
 // run: a Work::trace run of spec.
 RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::DeviceInfo& device);
-// {"trace_group", "stages", "build_ms", "bvh_ms", "trace_ms", "captures", "bricks", "bvh", "memory",
+// {"trace_group", "stages", "build_ms", "bvh_ms", "trace_ms", "total_ms", "wall_ms", "captures", "bricks", "bvh", "memory",
 //  "rays_per_second", "work_per_pixel", "capped_rays", "warnings", "digest", "voxel_world", "kernels"}
 // (docs/measurement.md)
 nlohmann::json to_json(const RenderFigures& f);

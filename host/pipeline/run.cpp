@@ -1,5 +1,6 @@
 #include "pipeline/run.h"
 
+#include <chrono>
 #include <span>
 #include <stdexcept>
 
@@ -22,19 +23,27 @@ template <class PassFn>
 Run repeat_passes(ocl::Device& device, const RunSpec& spec, PassFn&& pass) {
     if (spec.warmup < 0 || spec.repeat < 1) throw std::invalid_argument("pipeline run: warmup >= 0 and repeat >= 1");
     Run out;
-    std::vector<double> build_ms, bvh_ms, trace_ms;
+    std::vector<double> build_ms, bvh_ms, trace_ms, wall_ms;
+    std::uint64_t bricks = 0;
     for (int i = 0; i < spec.warmup + spec.repeat; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        // The last pass's bricks and image go first, so that this pass takes their memory again.
+        out.bricks = {};
+        out.trace.reset();
         measure::Scheduler scheduler(device);
-        Pass p = pass(scheduler);
+        Pass p = pass(scheduler, i + 1 == spec.warmup + spec.repeat);
+        device.memory_pool()->trim();
         if (i < spec.warmup) continue;
+        wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         out.captures.push_back(scheduler.resolve());
         build_ms.push_back(p.bricks.build_ms);
         bvh_ms.push_back(p.bricks.bvh.device_ms);
         trace_ms.push_back(p.trace ? p.trace->trace_ms : 0.0);
         if (out.captures.size() > 1 &&
-            (p.bricks.bricks != out.bricks.bricks || p.brick_digest != out.brick_digest ||
-             p.list_digest != out.list_digest || p.trace_digest != out.trace_digest))
+            (p.bricks.bricks != bricks || p.brick_digest != out.brick_digest || p.list_digest != out.list_digest ||
+             p.trace_digest != out.trace_digest))
             out.identical = false;
+        bricks = p.bricks.bricks;
         out.brick_digest = std::move(p.brick_digest);
         out.list_digest = std::move(p.list_digest);
         out.trace_digest = std::move(p.trace_digest);
@@ -46,36 +55,45 @@ Run repeat_passes(ocl::Device& device, const RunSpec& spec, PassFn&& pass) {
     out.build_ms = measure::spread_of(std::move(build_ms));
     out.bvh_ms = measure::spread_of(std::move(bvh_ms));
     out.trace_ms = measure::spread_of(std::move(trace_ms));
+    out.wall_ms = measure::spread_of(std::move(wall_ms));
     return out;
 }
 
 }  // namespace
 
 Runner::Runner(ocl::Device& device) : builder_(device), bvh_(device), tracer_(device) {}
+Runner::~Runner() = default;
 
-std::string buffer_digest(const RenderBuffer& b) {
-    return Fnv1a64().add_values(std::span<const cl_float4>(b.hit)).add_values(std::span<const cl_uint2>(b.aux)).hex();
+ocl::DeviceDigest& Runner::digest() {
+    if (!digest_) digest_.emplace(device());
+    return *digest_;
+}
+
+BrickDigests brick_digests(const render::SceneBricks& b, ocl::DeviceDigest& digest) {
+    Fnv1a64 bricks, lists;
+    for (const construct::GeometryBuild& g : b.builds) {
+        bricks.add_part(construct::output_digest(g, b.settings, digest));
+        lists.add_part(construct::list_digest(g, digest));
+    }
+    return {bricks.hex(), lists.hex()};
 }
 
 Run Runner::run(const Scene& scene, const RunSpec& spec) {
     std::optional<SdfCamera> camera;
     if (spec.work == Work::trace) camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
-    return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler) {
+    return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler, bool last) {
         Pass p;
         p.bricks = spec.work == Work::construct ? render::build_scene_bricks(builder_, scene, spec.build, scheduler)
                                                 : render::build_scene_bricks(builder_, bvh_, scene, spec.build, scheduler);
         if (spec.brick_digests) {
-            Fnv1a64 bricks, lists;
-            for (const construct::GeometryBuild& b : p.bricks.builds) {
-                bricks.add_part(construct::output_digest(b, spec.build));
-                lists.add_part(construct::list_digest(b));
-            }
-            p.brick_digest = bricks.hex();
-            p.list_digest = lists.hex();
+            BrickDigests d = brick_digests(p.bricks, digest());
+            p.brick_digest = std::move(d.bricks);
+            p.list_digest = std::move(d.lists);
         }
         if (camera) {
-            p.trace = tracer_.render(scene, p.bricks, *camera, spec.trace, scheduler);
-            p.trace_digest = buffer_digest(p.trace->buffer);
+            p.trace = tracer_.render(scene, p.bricks, *camera, spec.trace, scheduler, {},
+                                     {spec.image && last, spec.trace_digests});
+            p.trace_digest = p.trace->digest;
         }
         return p;
     });
@@ -83,10 +101,10 @@ Run Runner::run(const Scene& scene, const RunSpec& spec) {
 
 Run Runner::trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec) {
     const SdfCamera camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
-    return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler) {
+    return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler, bool last) {
         Pass p;
-        p.trace = tracer_.render(scene, bricks, camera, spec.trace, scheduler);
-        p.trace_digest = buffer_digest(p.trace->buffer);
+        p.trace = tracer_.render(scene, bricks, camera, spec.trace, scheduler, {}, {spec.image && last, spec.trace_digests});
+        p.trace_digest = p.trace->digest;
         return p;
     });
 }

@@ -25,7 +25,9 @@ struct RunSpec {
     render::TraceSettings trace;  // with Work::trace (the image size also gives the camera)
     int warmup = 0;
     int repeat = 1;
-    bool brick_digests = false;  // digest every capture's bricks, pools and edit lists (reads the pools back)
+    bool brick_digests = false;  // digest every capture's bricks, pools and edit lists (on the device)
+    bool trace_digests = true;   // digest every capture's traced image (on the device)
+    bool image = true;           // read the last capture's image back (Run::trace->buffer, colour)
 };
 
 struct Run {
@@ -35,6 +37,9 @@ struct Run {
     std::vector<measure::StageStats> stages;
     measure::Spread total_ms;                    // all launches, per capture
     measure::Spread build_ms, bvh_ms, trace_ms;  // construction, bvh + tlas, trace; per capture
+    // Wall time of each captured pass: everything it did on the host and waited for (launches, the
+    // waits between levels, digests, read-backs), what a user waits for beside total_ms.
+    measure::Spread wall_ms;
     std::string brick_digest, list_digest;       // with brick_digests: output_digest / list_digest over the geometries
     std::string trace_digest;                    // of the traced hit and aux buffers ("" when not traced)
     bool identical = true;  // every capture gave the same brick count, digests and traced image
@@ -43,10 +48,12 @@ struct Run {
 class Runner {
 public:
     explicit Runner(ocl::Device& device);
+    ~Runner();
     ocl::Device& device() { return builder_.device(); }
     construct::BrickBuilder& builder() { return builder_; }
     bvh::BvhBuilder& bvh() { return bvh_; }
     render::BrickTracer& tracer() { return tracer_; }
+    ocl::DeviceDigest& digest();  // made on first use
 
     // Throws InputError for settings the device refuses, std::invalid_argument for warmup < 0 or
     // repeat < 1.
@@ -59,9 +66,16 @@ private:
     construct::BrickBuilder builder_;
     bvh::BvhBuilder bvh_;
     render::BrickTracer tracer_;
+    std::optional<ocl::DeviceDigest> digest_;  // the brick digests' program and scratch, made on first use
 };
 
-// Digest of a render buffer (hit and aux): equal iff bit-identical.
-std::string buffer_digest(const RenderBuffer& b);
+using render::buffer_digest;
+
+// The brick digest (output_digest) and edit-list digest (list_digest) over every geometry of bricks,
+// computed on their device by digest.
+struct BrickDigests {
+    std::string bricks, lists;
+};
+BrickDigests brick_digests(const render::SceneBricks& bricks, ocl::DeviceDigest& digest);
 
 }  // namespace sdfbrick::pipeline

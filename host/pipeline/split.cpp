@@ -646,6 +646,7 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
         return r;
     });
     render::TraceResult out;
+    out.work.pixels = static_cast<std::uint64_t>(first.width) * first.height;
     out.buffer = RenderBuffer(first.width, first.height);
     if (first.shade) out.colour = Image(first.width, first.height, 3);
     for (const auto& p : parts) {
@@ -658,6 +659,7 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
                       out.colour.pixels.begin() + 3 * from);
         out.trace_ms += p.result.trace_ms;
         out.shade_ms += p.result.shade_ms;
+        out.work += p.result.work;
     }
     report.work = static_cast<double>(first.width) * first.height;
     finish_report(report, spec.rates, lanes);
@@ -665,9 +667,11 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
 }
 
 // The merged bricks on the first live device that takes them (for digests and what follows).
-render::SceneBricks home_bricks(std::vector<Lane>& lanes, const std::vector<HostBuild>& merged, const SplitSpec& spec) {
+render::SceneBricks home_bricks(std::vector<Lane>& lanes, const std::vector<HostBuild>& merged, const SplitSpec& spec,
+                                Lane*& home) {
     for (Lane& l : lanes) {
         if (!l.alive()) continue;
+        home = &l;
         if (l.traced) return std::move(*l.traced);
         try {
             return upload_scene(merged, spec.build[l.slot], *l.device);
@@ -687,16 +691,14 @@ SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpe
         out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing);
         out.trace_digest = buffer_digest(out.trace->buffer);
     }
-    out.bricks = home_bricks(lanes, merged, spec);
+    Lane* home = nullptr;
+    out.bricks = home_bricks(lanes, merged, spec, home);
     out.leaf_count = out.bricks.bricks;
     if (spec.brick_digests) {
-        Fnv1a64 bricks, lists;
-        for (const construct::GeometryBuild& b : out.bricks.builds) {
-            bricks.add_part(construct::output_digest(b, out.bricks.settings));
-            lists.add_part(construct::list_digest(b));
-        }
-        out.brick_digest = bricks.hex();
-        out.list_digest = lists.hex();
+        if (!home->tools) home->tools = std::make_unique<Runner>(*home->device);
+        BrickDigests d = brick_digests(out.bricks, home->tools->digest());
+        out.brick_digest = std::move(d.bricks);
+        out.list_digest = std::move(d.lists);
     }
     return out;
 }

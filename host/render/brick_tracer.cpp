@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "cl/digest.h"
 #include "cl/launch.h"
 #include "cl/program.h"
 #include "core/errors.h"
+#include "core/hash.h"
 
 namespace sdfbrick::render {
 
@@ -63,8 +65,8 @@ void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& out,
     const construct::BrickLayout layout = settings.layout();
     const std::size_t brick_bytes = layout.brick_bytes();
     if (out.builds.size() != 1) {
-        out.combined_pool = std::make_unique<ocl::Buffer<std::uint8_t>>(device, out.bricks * brick_bytes);
-        out.combined_shifts = std::make_unique<ocl::Buffer<cl_uint>>(device, out.bricks);
+        out.combined_pool = std::make_unique<ocl::Buffer<std::uint8_t>>(ocl::pooled, device, out.bricks * brick_bytes);
+        out.combined_shifts = std::make_unique<ocl::Buffer<cl_uint>>(ocl::pooled, device, out.bricks);
     }
     std::vector<SdfBrickGeometry> table;
     std::uint64_t first = 0;
@@ -121,8 +123,56 @@ struct BrickTracer::Kernels {
           shade(ocl::make_kernel(shade_program, "shade")) {}
 };
 
+// The buffers a trace writes, kept from call to call (grown, never shrunk), with the programs that
+// reduce and digest them.
+struct BrickTracer::Frame {
+    ocl::Buffer<SdfCamera> camera;
+    ocl::Buffer<SdfShading> shading;
+    ocl::Buffer<cl_float4> hit, colour;
+    ocl::Buffer<cl_uint2> aux;
+    ocl::Buffer<cl_ulong> totals;
+    ocl::Program counts_program;
+    ocl::Kernel counts;
+    std::optional<ocl::DeviceDigest> digest;
+    explicit Frame(ocl::Device& d)
+        : camera(d, 1, CL_MEM_READ_ONLY), shading(d, 1, CL_MEM_READ_ONLY), hit(d, 0), colour(d, 0), aux(d, 0),
+          totals(d, 3 * kCountGroups), counts_program(ocl::build_program(d, "trace_counts.cl")),
+          counts(ocl::make_kernel(counts_program, "trace_counts")) {}
+    static constexpr std::size_t kCountGroup = 64, kCountGroups = 256;  // COUNTS_GROUP; work-groups at most
+    void reserve(ocl::Device& d, std::size_t pixels, bool shade) {
+        if (hit.size() < pixels) hit = ocl::Buffer<cl_float4>(d, pixels);
+        if (aux.size() < pixels) aux = ocl::Buffer<cl_uint2>(d, pixels);
+        if (shade && colour.size() < pixels) colour = ocl::Buffer<cl_float4>(d, pixels);
+    }
+};
+
 BrickTracer::BrickTracer(ocl::Device& device) : device_(device) {}
 BrickTracer::~BrickTracer() = default;
+
+std::string buffer_digest(const RenderBuffer& b) {
+    const std::array<std::uint64_t, 2> parts{tree_digest(std::as_bytes(std::span(b.hit))),
+                                             tree_digest(std::as_bytes(std::span(b.aux)))};
+    return Fnv1a64().add_values(std::span<const std::uint64_t>(parts)).hex();
+}
+
+// The counters of pixels [first, first + count), summed on the device; means over `pixels`.
+WorkTotals BrickTracer::count_work(std::size_t first, std::size_t count, std::size_t pixels) {
+    Frame& f = *frame_;
+    WorkTotals w;
+    w.pixels = pixels;
+    if (count == 0) return w;
+    const std::size_t groups = std::min(Frame::kCountGroups, (count + Frame::kCountGroup - 1) / Frame::kCountGroup);
+    ocl::set_args(f.counts.get(), f.aux, static_cast<cl_uint>(first), static_cast<cl_uint>(count), f.totals);
+    ocl::enqueue(device_, f.counts.get(), "trace_counts", groups * Frame::kCountGroup, Frame::kCountGroup);
+    std::vector<cl_ulong> sums(3 * groups);
+    f.totals.read_into(std::span(sums));
+    for (std::size_t g = 0; g < groups; ++g) {
+        w.node_visits += sums[3 * g];
+        w.brick_steps += sums[3 * g + 1];
+        w.capped_rays += sums[3 * g + 2];
+    }
+    return w;
+}
 
 BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, const TraceSettings& t) {
     const std::string options = fmt::format("{} -DMETHOD={} -DNORMALS={}", b.layout().defines(),
@@ -133,7 +183,8 @@ BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, co
 }
 
 TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                                const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows) {
+                                const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows,
+                                TraceOutputs outputs) {
     validate_image_size(settings.width, settings.height);
     if (camera.width != static_cast<sdf_u32>(settings.width) || camera.height != static_cast<sdf_u32>(settings.height))
         throw std::invalid_argument("BrickTracer::render: the camera's size differs from the settings'");
@@ -147,42 +198,51 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
         throw std::invalid_argument("BrickTracer::render: rows out of the image or not on a work-group row");
     Kernels& k = kernels(bricks.settings, settings);
     const std::size_t pixels = static_cast<std::size_t>(settings.width) * settings.height;
-    ocl::Buffer<SdfCamera> cam(device_, std::span<const SdfCamera>(&camera, 1), CL_MEM_READ_ONLY);
-    ocl::Buffer<cl_float4> hit(device_, pixels);
-    ocl::Buffer<cl_uint2> aux(device_, pixels);
+    if (!frame_) frame_ = std::make_unique<Frame>(device_);
+    Frame& f = *frame_;
+    f.reserve(device_, pixels, settings.shade);
+    f.camera.write(std::span<const SdfCamera>(&camera, 1));
     const auto band = static_cast<std::size_t>(rows.end - rows.first);
     const std::array<std::size_t, 3> global{(settings.width + gx - 1) / gx * gx, (band + gy - 1) / gy * gy, 1};
     const std::array<std::size_t, 3> offset{0, static_cast<std::size_t>(rows.first), 0};
     const std::array<std::size_t, 3> local{gx, gy, 1};
     const std::size_t first_launch = scheduler.size();
-    ocl::set_args(k.trace.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
-                  bricks.pool(), bricks.shifts(), hit, aux);
+    ocl::set_args(k.trace.get(), f.camera, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
+                  bricks.pool(), bricks.shifts(), f.hit, f.aux);
     scheduler.launch(measure::Stage::trace, -1, k.trace.get(), global, local, 2, offset);
-    std::optional<ocl::Buffer<cl_float4>> colour;
     if (settings.shade) {
         const SdfShading shading = make_shading(scene, bricks, settings);
-        ocl::Buffer<SdfShading> sh(device_, std::span<const SdfShading>(&shading, 1), CL_MEM_READ_ONLY);
-        colour.emplace(device_, pixels);
-        ocl::set_args(k.shade.get(), cam, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
-                      *bricks.bvh.nodes, bricks.pool(), bricks.shifts(), sh, hit, *colour);
+        f.shading.write(std::span<const SdfShading>(&shading, 1));
+        ocl::set_args(k.shade.get(), f.camera, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
+                      *bricks.bvh.nodes, bricks.pool(), bricks.shifts(), f.shading, f.hit, f.colour);
         scheduler.launch(measure::Stage::shade, -1, k.shade.get(), global, local, 2, offset);
     }
     TraceResult out;
+    const std::size_t first = static_cast<std::size_t>(rows.first) * settings.width, count = band * settings.width;
+    out.work = count_work(first, count, pixels);
     scheduler.resolve();
     out.trace_ms = scheduler.stage_ms(measure::Stage::trace, -1, first_launch);
     out.shade_ms = scheduler.stage_ms(measure::Stage::shade, -1, first_launch);
-    out.buffer = RenderBuffer(settings.width, settings.height);
-    const std::size_t first = static_cast<std::size_t>(rows.first) * settings.width, count = band * settings.width;
-    hit.read_into(std::span(out.buffer.hit).subspan(first, count), first);
-    aux.read_into(std::span(out.buffer.aux).subspan(first, count), first);
-    if (colour) {
-        std::vector<cl_float4> c(pixels);
-        colour->read_into(std::span(c).subspan(first, count), first);
-        out.colour = Image(settings.width, settings.height, 3);
-        for (std::size_t i = first; i < first + count; ++i)
-            for (int ch = 0; ch < 3; ++ch) out.colour.pixels[3 * i + ch] = c[i].s[ch];
+    if (outputs.digest) {
+        if (count != pixels) throw std::invalid_argument("BrickTracer::render: a digest covers whole images, not bands of rows");
+        if (!f.digest) f.digest.emplace(device_);
+        const std::array<std::uint64_t, 2> parts{f.digest->digest(f.hit.get(), {pixels * sizeof(cl_float4), 1, 0, 1}),
+                                                 f.digest->digest(f.aux.get(), {pixels * sizeof(cl_uint2), 1, 0, 1})};
+        out.digest = Fnv1a64().add_values(std::span<const std::uint64_t>(parts)).hex();
     }
-    out.warnings = trace_warnings(scene, bricks, out.buffer, settings.method);
+    if (outputs.image) {
+        out.buffer = RenderBuffer(settings.width, settings.height);
+        f.hit.read_into(std::span(out.buffer.hit).subspan(first, count), first);
+        f.aux.read_into(std::span(out.buffer.aux).subspan(first, count), first);
+        if (settings.shade) {
+            std::vector<cl_float4> c(count);
+            f.colour.read_into(std::span(c), first);
+            out.colour = Image(settings.width, settings.height, 3);
+            for (std::size_t i = 0; i < count; ++i)
+                for (int ch = 0; ch < 3; ++ch) out.colour.pixels[3 * (first + i) + ch] = c[i].s[ch];
+        }
+    }
+    out.warnings = trace_warnings(scene, bricks, out.work.capped_rays, pixels, settings.method);
     return out;
 }
 

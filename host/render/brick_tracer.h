@@ -21,6 +21,7 @@
 #include "scene/scene.h"
 #include "sdf_types.h"
 #include "image/render_buffer.h"
+#include "render/pictures.h"
 #include "render/warnings.h"
 
 namespace sdfbrick::render {
@@ -82,13 +83,25 @@ struct Rows {
     int first = 0, end = 0;
 };
 
+// What a trace brings to the host besides its times, counters and warnings (which always come).
+struct TraceOutputs {
+    bool image = true;    // the pixel buffers (and the colour in shaded mode) read back
+    bool digest = false;  // the digest of the hit and aux buffers, computed on the device (whole images)
+};
+
 struct TraceResult {
-    RenderBuffer buffer;
-    Image colour;            // shaded mode only
+    RenderBuffer buffer;     // with TraceOutputs::image (else empty)
+    Image colour;            // shaded mode, with TraceOutputs::image
     double trace_ms = 0.0;   // device time of the primary rays
     double shade_ms = 0.0;   // device time of shading and its secondary rays
+    WorkTotals work;         // the traced rows' counters, reduced on the device
+    std::string digest;      // with TraceOutputs::digest: equals buffer_digest of the image read back
     std::vector<TraceWarning> warnings;  // render/warnings.h: defined output that may be wrong
 };
+
+// Digest of a render buffer: FNV-1a 64 over the tree digests (core/hash.h) of the hit and of the aux
+// bytes. Equal iff bit-identical; the tracer computes the same on the device.
+std::string buffer_digest(const RenderBuffer& b);
 
 // Light, penumbra and occlusion radius for the shaded mode, from the scene's light and size.
 SdfShading make_shading(const Scene& scene, const SceneBricks& bricks, const TraceSettings& settings);
@@ -97,18 +110,22 @@ class BrickTracer {
 public:
     explicit BrickTracer(ocl::Device& device);
     ~BrickTracer();
-    // Traces bricks (built on this tracer's device) with camera; readback of the pixel buffers included.
-    // Every launch is recorded in scheduler (the run's launch recorder). With rows, only those rows are
-    // traced and filled (first a multiple of settings.group_y); every pixel's value is the same as in a
-    // whole-image trace.
+    // Traces bricks (built on this tracer's device) with camera. Every launch is recorded in scheduler
+    // (the run's launch recorder). With rows, only those rows are traced and filled (first a multiple
+    // of settings.group_y); every pixel's value is the same as in a whole-image trace. The pixel
+    // buffers stay on the device (kept and grown across calls) unless outputs asks for them.
     TraceResult render(const Scene& scene, const SceneBricks& bricks, const SdfCamera& camera,
-                       const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows = {});
+                       const TraceSettings& settings, measure::Scheduler& scheduler, Rows rows = {},
+                       TraceOutputs outputs = {});
 
 private:
     struct Kernels;
+    struct Frame;  // the buffers kept across calls
     Kernels& kernels(const construct::BuildSettings& b, const TraceSettings& t);
+    WorkTotals count_work(std::size_t first, std::size_t count, std::size_t pixels);
     ocl::Device& device_;
     std::map<std::string, std::unique_ptr<Kernels>> cache_;
+    std::unique_ptr<Frame> frame_;
 };
 
 }  // namespace sdfbrick::render

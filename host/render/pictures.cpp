@@ -60,4 +60,21 @@ WorkCounts work_counts(const RenderBuffer& b) {
     return w;
 }
 
+WorkTotals& WorkTotals::operator+=(const WorkTotals& o) {
+    node_visits += o.node_visits;
+    brick_steps += o.brick_steps;
+    capped_rays += o.capped_rays;
+    return *this;
+}
+
+WorkCounts WorkTotals::per_pixel() const {
+    WorkCounts w;
+    w.capped_rays = capped_rays;
+    if (pixels > 0) {
+        w.node_visits = static_cast<double>(node_visits) / static_cast<double>(pixels);
+        w.brick_steps = static_cast<double>(brick_steps) / static_cast<double>(pixels);
+    }
+    return w;
+}
+
 }  // namespace sdfbrick::render

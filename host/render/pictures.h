@@ -25,4 +25,13 @@ struct WorkCounts {
 };
 WorkCounts work_counts(const RenderBuffer& b);
 
+// The same counters as sums over some pixels (a band of rows, or the whole image): what the tracer
+// reduces on the device (kernels/trace_counts.cl). Sums of bands add up to the image's.
+struct WorkTotals {
+    std::uint64_t node_visits = 0, brick_steps = 0, capped_rays = 0;
+    std::uint64_t pixels = 0;  // of the image the means are taken over
+    WorkTotals& operator+=(const WorkTotals& o);
+    WorkCounts per_pixel() const;
+};
+
 }  // namespace sdfbrick::render

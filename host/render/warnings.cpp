@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include "render/brick_tracer.h"
-#include "render/pictures.h"
 
 namespace sdfbrick::render {
 namespace {
@@ -50,22 +49,21 @@ std::optional<TraceWarning> precision_warning(const Scene& scene, const SceneBri
                                     worst.value, worst.voxel, worst.share(), kPrecisionVoxelShare)};
 }
 
-std::optional<TraceWarning> step_bound_warning(const RenderBuffer& image, Method method) {
-    const std::uint64_t capped = work_counts(image).capped_rays;
+std::optional<TraceWarning> step_bound_warning(std::uint64_t capped, std::uint64_t pixels, Method method) {
     if (capped == 0) return std::nullopt;
     return TraceWarning{TraceWarning::Cause::step_bound,
                         fmt::format("{} of {} rays ({:.3g}%) stopped at the in-brick step bound of method {} (a miss there "
                                     "may hide a surface; grazing rays do this to sphere tracing, hybrid and analytic "
                                     "do not stop there)",
-                                    capped, image.pixels(), 100.0 * static_cast<double>(capped) / image.pixels(),
+                                    capped, pixels, 100.0 * static_cast<double>(capped) / static_cast<double>(pixels),
                                     to_string(method))};
 }
 
-std::vector<TraceWarning> trace_warnings(const Scene& scene, const SceneBricks& bricks, const RenderBuffer& image,
-                                         Method method) {
+std::vector<TraceWarning> trace_warnings(const Scene& scene, const SceneBricks& bricks, std::uint64_t capped_rays,
+                                         std::uint64_t pixels, Method method) {
     std::vector<TraceWarning> out;
     if (auto w = precision_warning(scene, bricks)) out.push_back(std::move(*w));
-    if (auto w = step_bound_warning(image, method)) out.push_back(std::move(*w));
+    if (auto w = step_bound_warning(capped_rays, pixels, method)) out.push_back(std::move(*w));
     return out;
 }
 

@@ -37,10 +37,11 @@ inline constexpr double kPrecisionVoxelShare = 0.1;
 // (the camera's eye and every object's bounds in the world, every geometry's bounds in its own frame)
 // against the voxel in that frame; nothing when the spacing there is within kPrecisionVoxelShare voxels.
 std::optional<TraceWarning> precision_warning(const Scene& scene, const SceneBricks& bricks);
-// The step bound warning for a traced image: how many rays' search stopped at a kernel loop bound.
-std::optional<TraceWarning> step_bound_warning(const RenderBuffer& image, Method method);
+// The step bound warning for a traced image of `pixels` pixels: how many rays' search stopped at a
+// kernel loop bound.
+std::optional<TraceWarning> step_bound_warning(std::uint64_t capped_rays, std::uint64_t pixels, Method method);
 // Both, in that order (precision first).
-std::vector<TraceWarning> trace_warnings(const Scene& scene, const SceneBricks& bricks, const RenderBuffer& image,
-                                         Method method);
+std::vector<TraceWarning> trace_warnings(const Scene& scene, const SceneBricks& bricks, std::uint64_t capped_rays,
+                                         std::uint64_t pixels, Method method);
 
 }  // namespace sdfbrick::render

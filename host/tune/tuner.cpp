@@ -34,7 +34,9 @@ public:
         construct::BuildSettings s = base_;
         render::TraceSettings t = trace_;
         kernel_.apply(c, s, t);
-        const pipeline::RunSpec run_spec{kernel_.work, s, t, spec_.warmup, spec_.repeat};
+        pipeline::RunSpec run_spec{kernel_.work, s, t, spec_.warmup, spec_.repeat};
+        run_spec.trace_digests = false;  // a configuration's cost is its time: nothing is read back
+        run_spec.image = false;
         try {
             const pipeline::Run run =
                 built_ ? runner_.trace(scene_, built_->bricks, run_spec) : runner_.run(scene_, run_spec);

@@ -222,7 +222,9 @@ TEST(PipelineSplit, EachDeviceCachesItsOwnPrograms) {
     run_json(dir, split_env, "--device cpu --devices split" + build);
     const std::size_t one = entries(dir / "one"), two = entries(dir / "two");
     EXPECT_GT(one, 0u);
-    EXPECT_EQ(two, 2 * one);
+    // Both devices compiled the construction programs (only the device that holds the merged bricks
+    // digests them).
+    EXPECT_GT(two, one + one / 2);
     run_json(dir, split_env, "--device cpu --devices split" + build);
     EXPECT_EQ(entries(dir / "two"), two);
 }

@@ -1,0 +1,20 @@
+#include "core/hash.h"
+
+#include <vector>
+
+namespace sdfbrick {
+
+std::uint64_t tree_digest(std::span<const std::byte> stream, std::size_t block_bytes) {
+    if (block_bytes == 0) block_bytes = kTreeDigestBlock;
+    if (stream.size() <= block_bytes) return Fnv1a64().add(stream).value();
+    std::vector<std::uint64_t> level;
+    level.reserve((stream.size() + block_bytes - 1) / block_bytes);
+    for (std::size_t at = 0; at < stream.size(); at += block_bytes)
+        level.push_back(Fnv1a64().add(stream.subspan(at, std::min(block_bytes, stream.size() - at))).value());
+    // The digests as little-endian bytes: the host and every OpenCL device this runs on are little-endian
+    // (cl/digest.cpp refuses a device that is not).
+    static_assert(std::endian::native == std::endian::little, "tree_digest assumes a little-endian host");
+    return tree_digest(std::as_bytes(std::span<const std::uint64_t>(level)), kTreeDigestBlock);
+}
+
+}  // namespace sdfbrick
