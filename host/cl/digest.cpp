@@ -43,7 +43,22 @@ Buffer<cl_ulong>& DeviceDigest::scratch(int i, std::size_t count) {
     return *s;
 }
 
-std::uint64_t DeviceDigest::reduce(std::size_t blocks) {
+std::size_t DeviceDigest::slot(const Buffer<cl_ulong>& from) {
+    if (!results_ || results_->size() <= slots_) {  // grow: the slots so far are copied in queue order
+        auto bigger = std::make_unique<Buffer<cl_ulong>>(device_, std::max<std::size_t>(16, 2 * slots_ + 2));
+        if (results_ && slots_ > 0)
+            check(clEnqueueCopyBuffer(device_.queue(), results_->get(), bigger->get(), 0, 0, slots_ * sizeof(cl_ulong), 0,
+                                      nullptr, nullptr),
+                  "copying digest slots");
+        results_ = std::move(bigger);
+    }
+    check(clEnqueueCopyBuffer(device_.queue(), from.get(), results_->get(), 0, slots_ * sizeof(cl_ulong),
+                              sizeof(cl_ulong), 0, nullptr, nullptr),
+          "copying a digest into its slot");
+    return slots_++;
+}
+
+std::size_t DeviceDigest::reduce(std::size_t blocks) {
     constexpr std::size_t kPer = kTreeDigestBlock / sizeof(cl_ulong);
     int from = 0;
     while (blocks > 1) {
@@ -51,18 +66,42 @@ std::uint64_t DeviceDigest::reduce(std::size_t blocks) {
         Buffer<cl_ulong>& out = scratch(1 - from, next);
         set_args(blocks_.get(), *scratch_[from], static_cast<cl_ulong>(blocks), cl_uint{8}, cl_uint{0}, cl_uint{8},
                  static_cast<cl_uint>(kPer), out);
-        enqueue(device_, blocks_.get(), "digest_blocks", round_up(next, kGroup), kGroup);
+        enqueue_kernel(next);
         from = 1 - from;
         blocks = next;
     }
-    cl_ulong value = 0;
-    scratch_[from]->read_into(std::span(&value, 1));
-    return value;
+    return slot(*scratch_[from]);
+}
+
+std::vector<std::uint64_t> DeviceDigest::read_all() {
+    std::vector<std::uint64_t> values(slots_);
+    if (slots_ > 0) results_->read_into(std::span(values.data(), slots_));
+    slots_ = 0;
+    return values;
 }
 
 std::uint64_t DeviceDigest::digest(cl_mem data, const Records& w) {
-    if (w.records == 0 || w.take == 0) return Fnv1a64().value();
+    if (slots_ > 0) throw std::logic_error("DeviceDigest::digest with a batch pending");
+    enqueue(data, w);
+    return read_all().front();
+}
+
+std::uint64_t DeviceDigest::leaf_lists(const Buffer<SdfBrick>& leaves, const Buffer<cl_uint>& lists) {
+    if (slots_ > 0) throw std::logic_error("DeviceDigest::leaf_lists with a batch pending");
+    enqueue_leaf_lists(leaves, lists);
+    return read_all().front();
+}
+
+std::size_t DeviceDigest::enqueue(cl_mem data, const Records& w) {
     if (w.first + w.take > w.stride) throw std::invalid_argument("DeviceDigest: a record's bytes lie outside its stride");
+    if (w.records == 0 || w.take == 0) {  // the empty stream: FNV-1a 64's basis
+        Buffer<cl_ulong>& basis = scratch(0, 1);
+        const cl_ulong value = Fnv1a64().value();
+        check(clEnqueueFillBuffer(device_.queue(), basis.get(), &value, sizeof(value), 0, sizeof(value), 0, nullptr,
+                                  nullptr),
+              "writing the empty digest");
+        return slot(basis);
+    }
     const std::size_t per_block = block_bytes(w.take) / w.take;
     const std::size_t blocks = (w.records + per_block - 1) / per_block;
     Buffer<cl_ulong>& out = scratch(0, blocks);
@@ -78,17 +117,21 @@ std::uint64_t DeviceDigest::digest(cl_mem data, const Records& w) {
     detail::set_kernel_arg(k, 4, sizeof(take), &take, "scalar");
     detail::set_kernel_arg(k, 5, sizeof(per), &per, "scalar");
     detail::set_kernel_arg(k, 6, sizeof(cl_mem), &out_mem, "buffer");
-    enqueue(device_, k, "digest_blocks", round_up(blocks, kGroup), kGroup);
+    enqueue_kernel(blocks);
     return reduce(blocks);
 }
 
-std::uint64_t DeviceDigest::leaf_lists(const Buffer<SdfBrick>& leaves, const Buffer<cl_uint>& lists) {
+std::size_t DeviceDigest::enqueue_leaf_lists(const Buffer<SdfBrick>& leaves, const Buffer<cl_uint>& lists) {
     Buffer<cl_ulong>& per_leaf = scratch(2, leaves.size());
     if (leaves.size() > 0) {
         set_args(lists_.get(), leaves, static_cast<cl_uint>(leaves.size()), lists, per_leaf);
-        enqueue(device_, lists_.get(), "digest_lists", round_up(leaves.size(), kGroup), kGroup);
+        ocl::enqueue(device_, lists_.get(), "digest_lists", round_up(leaves.size(), kGroup), kGroup);
     }
-    return digest(per_leaf.get(), {leaves.size(), 8, 0, 8});
+    return enqueue(per_leaf.get(), {leaves.size(), 8, 0, 8});
+}
+
+void DeviceDigest::enqueue_kernel(std::size_t items) {
+    ocl::enqueue(device_, blocks_.get(), "digest_blocks", round_up(items, kGroup), kGroup);
 }
 
 }  // namespace sdfbrick::ocl

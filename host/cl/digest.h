@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "cl/buffer.h"
 #include "cl/device.h"
@@ -43,15 +44,25 @@ public:
     // 8-byte values): the edit-list digest of a build.
     std::uint64_t leaf_lists(const Buffer<SdfBrick>& leaves, const Buffer<cl_uint>& lists);
 
+    // The same, batched: each enqueue_* call only enqueues (the queue is in order) and returns its
+    // slot; read_all() waits once and returns every slot's value since the last read_all.
+    std::size_t enqueue(cl_mem data, const Records& what);
+    std::size_t enqueue_leaf_lists(const Buffer<SdfBrick>& leaves, const Buffer<cl_uint>& lists);
+    std::vector<std::uint64_t> read_all();
+
     static std::size_t block_bytes(std::size_t take);
 
 private:
-    std::uint64_t reduce(std::size_t blocks);  // the level digests in scratch_[0] down to one value
+    std::size_t reduce(std::size_t blocks);  // the level digests in scratch_[0] down to one value, into a slot
+    std::size_t slot(const Buffer<cl_ulong>& from);  // copies from[0] into the next result slot
     Buffer<cl_ulong>& scratch(int i, std::size_t count);
+    void enqueue_kernel(std::size_t items);  // digest_blocks over items blocks, arguments set
     Device& device_;
     Program program_;
     Kernel blocks_, lists_;
     std::unique_ptr<Buffer<cl_ulong>> scratch_[3];  // two for the levels, one for per-leaf values
+    std::unique_ptr<Buffer<cl_ulong>> results_;     // the slots of the batch
+    std::size_t slots_ = 0;
 };
 
 }  // namespace sdfbrick::ocl

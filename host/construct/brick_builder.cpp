@@ -905,8 +905,22 @@ std::string output_digest_of(const GeometryBuild& b, const BuildSettings& s, std
 
 }  // namespace
 
+std::vector<std::pair<std::string, std::string>> build_digests(std::span<const GeometryBuild> builds,
+                                                               const BuildSettings& s, ocl::DeviceDigest& digest) {
+    for (const GeometryBuild& b : builds) {
+        digest.enqueue(b.leaves->get(), coordinate_records(b, s));
+        digest.enqueue(b.pool->get(), {b.pool->bytes(), 1, 0, 1});
+        digest.enqueue_leaf_lists(*b.leaves, *b.leaf_edit_indices);
+    }
+    const std::vector<std::uint64_t> v = digest.read_all();
+    std::vector<std::pair<std::string, std::string>> out;
+    for (std::size_t i = 0; i < builds.size(); ++i)
+        out.emplace_back(output_digest_of(builds[i], s, v[3 * i], v[3 * i + 1]), fmt::format("{:016x}", v[3 * i + 2]));
+    return out;
+}
+
 std::string output_digest(const GeometryBuild& b, const BuildSettings& s, ocl::DeviceDigest& digest) {
-    return output_digest_of(b, s, digest.digest(b.leaves->get(), coordinate_records(b, s)), digest.bytes(*b.pool));
+    return build_digests(std::span(&b, 1), s, digest).front().first;
 }
 
 std::string list_digest(const GeometryBuild& b, ocl::DeviceDigest& digest) {

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -92,8 +93,9 @@ struct LevelReport {
     std::optional<std::uint64_t> reference_cells;
 };
 
-// One geometry's construction: the leaves and pool stay on the device.
-struct GeometryBuild {
+// What one geometry's construction is, without its arrays: plain data, copied as a whole where a
+// build moves between host and devices (a split's parts, their merge).
+struct GeometryBuildInfo {
     std::string name;
     // Domain: a cube of side leaf * B^(levels-1) from origin (floats as the kernels use them).
     glm::vec3 origin{0.0f};
@@ -122,6 +124,12 @@ struct GeometryBuild {
     double tolerance = 0.0;  // 0: uniform
     double check_error_max = 0.0, check_error_p99 = 0.0;
     int coarsest_leaf_level = 0;  // levels - 1 for uniform builds
+};
+
+// One geometry's construction: the leaves and pool stay on the device.
+struct GeometryBuild : GeometryBuildInfo {
+    const GeometryBuildInfo& info() const { return *this; }
+    GeometryBuildInfo& info() { return *this; }
 
     std::unique_ptr<ocl::Buffer<SdfBrick>> leaves;  // Morton order; a leaf's level gives its size
     std::unique_ptr<ocl::Buffer<cl_uint>> shifts;   // per leaf: (levels - 1 - level) * log2(B), 0 when uniform
@@ -169,6 +177,9 @@ private:
 // the host (the same values: the tests' twin).
 std::string output_digest(const GeometryBuild& b, const BuildSettings& s, ocl::DeviceDigest& digest);
 std::string list_digest(const GeometryBuild& b, ocl::DeviceDigest& digest);
+// Both for every build, enqueued together and read back with one wait: {output, list} per build.
+std::vector<std::pair<std::string, std::string>> build_digests(std::span<const GeometryBuild> builds,
+                                                               const BuildSettings& s, ocl::DeviceDigest& digest);
 std::string output_digest(const GeometryBuild& b, const BuildSettings& s);
 std::string list_digest(const GeometryBuild& b);
 

@@ -120,6 +120,25 @@ std::string bytes_text(std::uint64_t b) {
     return fmt::format("{} B", b);
 }
 
+// ---- wall time ----
+
+WallBreakdown wall_breakdown(const Run& run) {
+    return {run.wall_ms.median, run.construct_wall_ms.median, run.bvh_wall_ms.median, run.trace_wall_ms.median,
+            run.digest_wall_ms.median};
+}
+
+nlohmann::json to_json(const WallBreakdown& w) {
+    return {{"total", w.total}, {"construct", w.construct}, {"bvh", w.bvh}, {"trace", w.trace}, {"digests", w.digests}};
+}
+
+std::string to_text(const WallBreakdown& w) {
+    std::string parts;
+    for (const auto& [name, ms] : {std::pair{"construct", w.construct}, std::pair{"bvh", w.bvh},
+                                   std::pair{"trace", w.trace}, std::pair{"digests", w.digests}})
+        if (ms > 0.0) parts += fmt::format("{}{} {:.3f}", parts.empty() ? "" : ", ", name, ms);
+    return fmt::format("wall {:.3f} ms a capture ({})", w.total, parts);
+}
+
 // ---- construction ----
 
 double ConstructionFigures::edits_per_leaf_mean() const {
@@ -167,6 +186,7 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device) {
     f.stages = run.stages;
     f.total_ms = run.total_ms;
     f.wall_ms = run.wall_ms;
+    f.wall = wall_breakdown(run);
     f.captures = run.captures.size();
     f.identical = run.identical;
     f.kernels = measure::kernel_rows(run.captures, device);
@@ -239,6 +259,7 @@ nlohmann::json to_json(const BuildFigures& f) {
             {"host_ms", c.host_ms},
             {"total_ms", measure::to_json(f.total_ms)},
             {"wall_ms", measure::to_json(f.wall_ms)},
+            {"wall_breakdown_ms", to_json(f.wall)},
             {"captures", {{"repeat", f.captures}, {"identical", f.identical}}},
             {"kernels", measure::to_json(f.kernels)},
             {"memory", c.memory},
@@ -256,8 +277,8 @@ std::string to_text(const BuildFigures& f, bool kernel_table) {
     std::string stages;
     for (const auto& st : f.stages)
         stages += fmt::format("{}{} {:.3f}", stages.empty() ? "" : ", ", to_string(st.stage), st.ms.median);
-    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms; wall {:.3f} ms a capture\n",
-                     f.captures > 1 ? ", medians" : "", stages, f.total_ms.median, f.wall_ms.median);
+    s += fmt::format("  stages (device ms{}): {}; total {:.3f} ms; {}\n", f.captures > 1 ? ", medians" : "", stages,
+                     f.total_ms.median, to_text(f.wall));
     if (f.captures > 1) {
         s += fmt::format("  total over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n", f.captures,
                          f.total_ms.median, f.total_ms.min, f.total_ms.max, 100.0 * f.total_ms.cv);
@@ -296,6 +317,7 @@ RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::Dev
     f.trace_ms = run.trace_ms;
     f.total_ms = run.total_ms;
     f.wall_ms = run.wall_ms;
+    f.wall = wall_breakdown(run);
     f.warmup = spec.warmup;
     f.captures = run.captures.size();
     f.identical = run.identical;
@@ -323,6 +345,7 @@ nlohmann::json to_json(const RenderFigures& f) {
             {"trace_ms", measure::to_json(f.trace_ms)},
             {"total_ms", measure::to_json(f.total_ms)},
             {"wall_ms", measure::to_json(f.wall_ms)},
+            {"wall_breakdown_ms", to_json(f.wall)},
             {"captures", {{"warmup", f.warmup}, {"repeat", f.captures}, {"identical", f.identical}}},
             {"bricks", f.construction.bricks},
             {"bvh", {{"nodes", f.bvh.nodes}, {"tlas_nodes", f.bvh.tlas_nodes}, {"instances", f.bvh.instances},
@@ -341,11 +364,10 @@ std::string to_text(const RenderFigures& f, bool kernel_table) {
     const std::string shade =
         f.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(f.stages, measure::Stage::shade)) : "";
     std::string s = fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
-                                "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}; device {:.3f} ms, "
-                                "wall {:.3f} ms a capture\n",
+                                "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}; device {:.3f} ms, {}\n",
                                 f.build_ms.median, f.construction.bricks, f.bvh_ms.median, f.bvh.nodes,
                                 f.trace_ms.median, f.rays_per_second(), f.work.node_visits, f.work.brick_steps, shade,
-                                f.total_ms.median, f.wall_ms.median);
+                                f.total_ms.median, to_text(f.wall));
     for (const render::TraceWarning& w : f.warnings) s += "  warning: " + w.message + "\n";
     if (f.captures > 1) s += measure::stage_table_text(f.stages, f.identical);
     if (kernel_table) s += measure::kernel_table_text(f.kernels);

@@ -26,6 +26,17 @@ namespace sdfbrick::pipeline {
 
 using Memory = std::map<std::string, std::uint64_t>;  // bytes per resource
 
+// Where a capture's wall time went (medians over the captures; pipeline::Run's *_wall_ms): beside the
+// device time, what explains a gap between the two.
+struct WallBreakdown {
+    double total = 0.0, construct = 0.0, bvh = 0.0, trace = 0.0, digests = 0.0;
+};
+WallBreakdown wall_breakdown(const Run& run);
+// {"total", "construct", "bvh", "trace", "digests"} in ms
+nlohmann::json to_json(const WallBreakdown& w);
+// "wall 8.36 ms a capture (construct 6.86, digests 1.50)": the parts that took time
+std::string to_text(const WallBreakdown& w);
+
 // One geometry's construction in the last capture (a GeometryBuild without its device buffers).
 struct GeometryFigures {
     std::string name;
@@ -77,6 +88,7 @@ struct BuildFigures {
     std::vector<measure::StageStats> stages;
     measure::Spread total_ms;
     measure::Spread wall_ms;  // each capture's wall time (pipeline::Run::wall_ms)
+    WallBreakdown wall;
     std::size_t captures = 0;
     bool identical = true;  // every capture gave the same bricks, pools and edit lists
     std::vector<measure::KernelRow> kernels;
@@ -91,7 +103,7 @@ BuildFigures build_figures(const Run& run, const ocl::DeviceInfo& device);
 // Fills every level's reference_cells with the host reference's surface cells of that level
 // (reference::count_surface_cells over the same domain). scene: the one that was built.
 void add_reference_levels(ConstructionFigures& c, const Scene& scene, const construct::BuildSettings& s);
-// {"bricks", "digest", "list_digest", "stages", "device_ms", "host_ms", "total_ms", "wall_ms", "captures",
+// {"bricks", "digest", "list_digest", "stages", "device_ms", "host_ms", "total_ms", "wall_ms", "wall_breakdown_ms", "captures",
 //  "kernels", "memory", "edits_per_leaf", "edit_evaluations", "bricks_per_second",
 //  "edit_evaluations_per_second", "geometries", "roofline"} (docs/measurement.md)
 nlohmann::json to_json(const BuildFigures& f);
@@ -115,6 +127,7 @@ struct RenderFigures {
     std::vector<measure::StageStats> stages;
     measure::Spread build_ms, bvh_ms, trace_ms;
     measure::Spread total_ms, wall_ms;  // device time of all launches, and wall time, per capture
+    WallBreakdown wall;
     int warmup = 0;
     std::size_t captures = 0;
     bool identical = true;  // every capture gave the same bricks and image
@@ -131,7 +144,7 @@ struct RenderFigures {
 };
 // run: a Work::trace run of spec.
 RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::DeviceInfo& device);
-// {"trace_group", "stages", "build_ms", "bvh_ms", "trace_ms", "total_ms", "wall_ms", "captures", "bricks", "bvh", "memory",
+// {"trace_group", "stages", "build_ms", "bvh_ms", "trace_ms", "total_ms", "wall_ms", "wall_breakdown_ms", "captures", "bricks", "bvh", "memory",
 //  "rays_per_second", "work_per_pixel", "capped_rays", "warnings", "digest", "voxel_world", "kernels"}
 // (docs/measurement.md)
 nlohmann::json to_json(const RenderFigures& f);

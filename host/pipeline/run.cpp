@@ -9,24 +9,40 @@
 
 namespace sdfbrick::pipeline {
 
-namespace {
-
 // What one pass produced.
-struct Pass {
+struct Runner::Pass {
     render::SceneBricks bricks;
     std::optional<render::TraceResult> trace;
     std::string brick_digest, list_digest, trace_digest;
+    double construct_wall = 0.0, bvh_wall = 0.0, trace_wall = 0.0, digest_wall = 0.0;
 };
+
+namespace {
+
+using Pass = Runner::Pass;
+using Clock = std::chrono::steady_clock;
+
+// Runs fn and adds its wall time to ms.
+template <class Fn>
+auto timed(double& ms, Fn&& fn) {
+    const auto start = Clock::now();
+    struct Add {
+        double& ms;
+        Clock::time_point start;
+        ~Add() { ms += std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+    } add{ms, start};
+    return fn();
+}
 
 // Runs warmup + repeat passes (each a Pass from a fresh launch recorder) and keeps the captures.
 template <class PassFn>
 Run repeat_passes(ocl::Device& device, const RunSpec& spec, PassFn&& pass) {
     if (spec.warmup < 0 || spec.repeat < 1) throw std::invalid_argument("pipeline run: warmup >= 0 and repeat >= 1");
     Run out;
-    std::vector<double> build_ms, bvh_ms, trace_ms, wall_ms;
+    std::vector<double> build_ms, bvh_ms, trace_ms, wall_ms, construct_wall, bvh_wall, trace_wall, digest_wall;
     std::uint64_t bricks = 0;
     for (int i = 0; i < spec.warmup + spec.repeat; ++i) {
-        const auto start = std::chrono::steady_clock::now();
+        const auto start = Clock::now();
         // The last pass's bricks and image go first, so that this pass takes their memory again.
         out.bricks = {};
         out.trace.reset();
@@ -34,11 +50,15 @@ Run repeat_passes(ocl::Device& device, const RunSpec& spec, PassFn&& pass) {
         Pass p = pass(scheduler, i + 1 == spec.warmup + spec.repeat);
         device.memory_pool()->trim();
         if (i < spec.warmup) continue;
-        wall_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        wall_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
         out.captures.push_back(scheduler.resolve());
         build_ms.push_back(p.bricks.build_ms);
         bvh_ms.push_back(p.bricks.bvh.device_ms);
         trace_ms.push_back(p.trace ? p.trace->trace_ms : 0.0);
+        construct_wall.push_back(p.construct_wall);
+        bvh_wall.push_back(p.bvh_wall);
+        trace_wall.push_back(p.trace_wall);
+        digest_wall.push_back(p.digest_wall);
         if (out.captures.size() > 1 &&
             (p.bricks.bricks != bricks || p.brick_digest != out.brick_digest || p.list_digest != out.list_digest ||
              p.trace_digest != out.trace_digest))
@@ -56,12 +76,24 @@ Run repeat_passes(ocl::Device& device, const RunSpec& spec, PassFn&& pass) {
     out.bvh_ms = measure::spread_of(std::move(bvh_ms));
     out.trace_ms = measure::spread_of(std::move(trace_ms));
     out.wall_ms = measure::spread_of(std::move(wall_ms));
+    out.construct_wall_ms = measure::spread_of(std::move(construct_wall));
+    out.bvh_wall_ms = measure::spread_of(std::move(bvh_wall));
+    out.trace_wall_ms = measure::spread_of(std::move(trace_wall));
+    out.digest_wall_ms = measure::spread_of(std::move(digest_wall));
     return out;
 }
 
 }  // namespace
 
 Runner::Runner(ocl::Device& device) : builder_(device), bvh_(device), tracer_(device) {}
+
+void Runner::trace_pass(Pass& p, const Scene& scene, const render::SceneBricks& bricks, const SdfCamera& camera,
+                        const RunSpec& spec, measure::Scheduler& scheduler, bool last) {
+    p.trace = timed(p.trace_wall, [&] {
+        return tracer_.render(scene, bricks, camera, spec.trace, scheduler, {}, {spec.image && last, spec.trace_digests});
+    });
+    p.trace_digest = p.trace->digest;
+}
 Runner::~Runner() = default;
 
 ocl::DeviceDigest& Runner::digest() {
@@ -71,9 +103,9 @@ ocl::DeviceDigest& Runner::digest() {
 
 BrickDigests brick_digests(const render::SceneBricks& b, ocl::DeviceDigest& digest) {
     Fnv1a64 bricks, lists;
-    for (const construct::GeometryBuild& g : b.builds) {
-        bricks.add_part(construct::output_digest(g, b.settings, digest));
-        lists.add_part(construct::list_digest(g, digest));
+    for (const auto& [output, list] : construct::build_digests(b.builds, b.settings, digest)) {
+        bricks.add_part(output);
+        lists.add_part(list);
     }
     return {bricks.hex(), lists.hex()};
 }
@@ -83,18 +115,15 @@ Run Runner::run(const Scene& scene, const RunSpec& spec) {
     if (spec.work == Work::trace) camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
     return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler, bool last) {
         Pass p;
-        p.bricks = spec.work == Work::construct ? render::build_scene_bricks(builder_, scene, spec.build, scheduler)
-                                                : render::build_scene_bricks(builder_, bvh_, scene, spec.build, scheduler);
+        p.bricks = timed(p.construct_wall, [&] { return render::build_scene_bricks(builder_, scene, spec.build, scheduler); });
+        if (spec.work != Work::construct)
+            timed(p.bvh_wall, [&] { render::prepare_tracing(bvh_, scene, p.bricks, scheduler); });
         if (spec.brick_digests) {
-            BrickDigests d = brick_digests(p.bricks, digest());
+            BrickDigests d = timed(p.digest_wall, [&] { return brick_digests(p.bricks, digest()); });
             p.brick_digest = std::move(d.bricks);
             p.list_digest = std::move(d.lists);
         }
-        if (camera) {
-            p.trace = tracer_.render(scene, p.bricks, *camera, spec.trace, scheduler, {},
-                                     {spec.image && last, spec.trace_digests});
-            p.trace_digest = p.trace->digest;
-        }
+        if (camera) trace_pass(p, scene, p.bricks, *camera, spec, scheduler, last);
         return p;
     });
 }
@@ -103,8 +132,7 @@ Run Runner::trace(const Scene& scene, const render::SceneBricks& bricks, const R
     const SdfCamera camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
     return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler, bool last) {
         Pass p;
-        p.trace = tracer_.render(scene, bricks, camera, spec.trace, scheduler, {}, {spec.image && last, spec.trace_digests});
-        p.trace_digest = p.trace->digest;
+        trace_pass(p, scene, bricks, camera, spec, scheduler, last);
         return p;
     });
 }

@@ -40,6 +40,10 @@ struct Run {
     // Wall time of each captured pass: everything it did on the host and waited for (launches, the
     // waits between levels, digests, read-backs), what a user waits for beside total_ms.
     measure::Spread wall_ms;
+    // What that wall time went to, per capture: construction (build()), the BVH and tracing arrays,
+    // the trace (with its counters and any read-back), and the digests; the rest of wall_ms is the
+    // pass's own bookkeeping.
+    measure::Spread construct_wall_ms, bvh_wall_ms, trace_wall_ms, digest_wall_ms;
     std::string brick_digest, list_digest;       // with brick_digests: output_digest / list_digest over the geometries
     std::string trace_digest;                    // of the traced hit and aux buffers ("" when not traced)
     bool identical = true;  // every capture gave the same brick count, digests and traced image
@@ -62,7 +66,11 @@ public:
     // spec.build are not used): the trace tuner measures work-group shapes without rebuilding.
     Run trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec);
 
+    struct Pass;  // what one pass produced (run.cpp)
+
 private:
+    void trace_pass(Pass& p, const Scene& scene, const render::SceneBricks& bricks, const SdfCamera& camera,
+                    const RunSpec& spec, measure::Scheduler& scheduler, bool last);
     construct::BrickBuilder builder_;
     bvh::BvhBuilder bvh_;
     render::BrickTracer tracer_;

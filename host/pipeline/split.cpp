@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <exception>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <span>
 #include <stdexcept>
@@ -171,7 +172,7 @@ std::pair<std::uint64_t, std::uint64_t> covered(const std::vector<std::uint64_t>
 
 // A part of one geometry's build, read back to the host.
 struct HostBuild {
-    construct::GeometryBuild meta;  // without its device buffers
+    construct::GeometryBuildInfo meta;
     int split_level = -1;           // -1: the build ended before a split level
     std::uint64_t total_weight = 0;  // of the split level's bricks
     std::vector<SdfBrick> leaves;
@@ -443,17 +444,22 @@ HostBuild to_host(construct::GeometryBuild b, Lane& lane, HostBuild h) {
     read(*b.leaf_edit_indices, h.lists);
     read(*b.pool, h.pool);
     read(*b.aabbs, h.aabbs);
-    b.leaves.reset();
-    b.leaf_edit_indices.reset();
-    b.pool.reset();
-    b.aabbs.reset();
-    h.meta = std::move(b);
+    h.meta = std::move(b.info());
     return h;
 }
 
-// Builds the part iv of every geometry on lane's device; the leaves, lists, pool and boxes come back.
-std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
-    std::vector<HostBuild> out;
+// A lane's part of the construction: read back to the host, or, when the part is all of the stage
+// (one lane did everything), left where it is: nothing is merged, nothing crosses.
+struct BuiltPart {
+    std::vector<HostBuild> host;  // per geometry; with resident, only the split level and its weight
+    std::optional<std::vector<construct::GeometryBuild>> resident;
+};
+
+// Builds the part iv of every geometry on lane's device.
+BuiltPart build_part(Lane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
+    BuiltPart out;
+    const bool whole = iv.f0 == 0.0 && iv.f1 == 1.0;
+    if (whole) out.resident.emplace();
     measure::Scheduler scheduler(*lane.device);
     for (std::size_t gi = 0; gi < scene.geometries.size(); ++gi) {
         const Geometry& g = scene.geometries[gi];
@@ -467,11 +473,17 @@ std::vector<HostBuild> build_part(Lane& lane, const Scene& scene, const construc
             total = prefix.back();
             return range;
         }};
-        HostBuild recycled = gi < lane.spare.size() ? std::move(lane.spare[gi]) : HostBuild{};
-        HostBuild h = to_host(lane.tools->builder().build(g, s, scheduler, &subtrees), lane, std::move(recycled));
+        construct::GeometryBuild b = lane.tools->builder().build(g, s, scheduler, &subtrees);
+        HostBuild h;
+        if (whole) {
+            out.resident->push_back(std::move(b));
+        } else {
+            HostBuild recycled = gi < lane.spare.size() ? std::move(lane.spare[gi]) : HostBuild{};
+            h = to_host(std::move(b), lane, std::move(recycled));
+        }
         h.split_level = split_level;
         h.total_weight = total;
-        out.push_back(std::move(h));
+        out.host.push_back(std::move(h));
     }
     lane.kernels_ms += scheduler.total_ms();
     return out;
@@ -503,14 +515,17 @@ construct::LevelReport merged_level(const std::vector<const HostBuild*>& parts, 
 // offsets moved past the lists before it.
 HostBuild merge(const std::vector<const HostBuild*>& parts) {
     HostBuild m;
-    const construct::GeometryBuild& first = parts.front()->meta;
-    m.meta.name = first.name;
-    m.meta.origin = first.origin;
-    m.meta.leaf_size = first.leaf_size;
-    m.meta.levels = first.levels;
-    m.meta.clamp_c = first.clamp_c;
-    m.meta.band = first.band;
-    m.meta.dependency_entries = first.dependency_entries;
+    // Domain, layout and settings as every part has them; the sums below start from zero.
+    m.meta = parts.front()->meta;
+    m.meta.level_reports.clear();
+    m.meta.leaf_count = 0;
+    m.meta.edits_per_leaf_mean = 0.0;
+    m.meta.edits_per_leaf_max = 0;
+    m.meta.edit_evaluations = 0;
+    m.meta.work.clear();
+    m.meta.memory.clear();
+    m.meta.device_ms = m.meta.host_ms = 0.0;
+    m.meta.first_launch = m.meta.end_launch = 0;  // the parts' launches are in their lanes' recorders
     m.split_level = parts.front()->split_level;
     std::size_t levels = 0;
     for (const HostBuild* p : parts) levels = std::max(levels, p->meta.level_reports.size());
@@ -532,6 +547,12 @@ HostBuild merge(const std::vector<const HostBuild*>& parts) {
         m.meta.device_ms += p->meta.device_ms;
         m.meta.host_ms = std::max(m.meta.host_ms, p->meta.host_ms);
         for (const auto& [what, bytes] : p->meta.memory) m.meta.memory[what] += bytes;
+        for (const auto& [stage, w] : p->meta.work) {
+            construct::StageWork& sum = m.meta.work[stage];
+            sum.flop += w.flop;
+            sum.bytes += w.bytes;
+            sum.evaluations += w.evaluations;
+        }
     }
     if (m.meta.leaf_count > 0) m.meta.edits_per_leaf_mean = entries / static_cast<double>(m.meta.leaf_count);
     return m;
@@ -540,24 +561,7 @@ HostBuild merge(const std::vector<const HostBuild*>& parts) {
 // A merged build on a device (its figures copied, its arrays uploaded).
 construct::GeometryBuild upload(const HostBuild& h, ocl::Device& d) {
     construct::GeometryBuild b;
-    const construct::GeometryBuild& m = h.meta;
-    b.name = m.name;
-    b.origin = m.origin;
-    b.leaf_size = m.leaf_size;
-    b.levels = m.levels;
-    b.branching = m.branching;
-    b.coarsest_leaf_level = m.coarsest_leaf_level;
-    b.clamp_c = m.clamp_c;
-    b.band = m.band;
-    b.level_reports = m.level_reports;
-    b.leaf_count = m.leaf_count;
-    b.edits_per_leaf_mean = m.edits_per_leaf_mean;
-    b.edits_per_leaf_max = m.edits_per_leaf_max;
-    b.edit_evaluations = m.edit_evaluations;
-    b.dependency_entries = m.dependency_entries;
-    b.memory = m.memory;
-    b.device_ms = m.device_ms;
-    b.host_ms = m.host_ms;
+    b.info() = h.meta;
     b.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(d, std::span<const SdfBrick>(h.leaves));
     b.leaf_edit_indices = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(h.lists));
     b.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(d, std::span<const std::uint8_t>(h.pool));
@@ -580,25 +584,72 @@ render::SceneBricks upload_scene(const std::vector<HostBuild>& merged, const con
     return out;
 }
 
-// The split construction: every geometry's parts, merged on the host.
-std::vector<HostBuild> split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec,
-                                       const RateStore* basis, StageSplit& report) {
+// The construction of a pass: on the device of the one lane that built all of it (resident), or
+// merged on the host from the parts. A lane that traces without holding it gets a host copy, read
+// back once (host_copy) where the construction is resident.
+struct Merged {
+    std::optional<std::size_t> lane;  // the lane whose device holds resident
+    render::SceneBricks resident;
+    std::vector<HostBuild> host;
+    bool host_ready = false;
+    std::mutex mutex;
+    bool prepared = false;  // resident has its BVH and tracing arrays
+};
+
+// The merged arrays on the host: the host merge, or the resident build read back once (its copies
+// counted on the lane that reads).
+const std::vector<HostBuild>& host_copy(Merged& m, std::vector<Lane>& lanes) {
+    std::lock_guard lock(m.mutex);
+    if (!m.host_ready) {
+        Lane& home = lanes[*m.lane];
+        m.host.clear();
+        for (const construct::GeometryBuild& b : m.resident.builds) {
+            HostBuild h;
+            const auto read = [&](const auto& buffer, auto& out) {
+                out.resize(buffer.size());
+                home.copy(buffer.bytes(), [&] { buffer.read_into(std::span(out)); });
+            };
+            read(*b.leaves, h.leaves);
+            read(*b.leaf_edit_indices, h.lists);
+            read(*b.pool, h.pool);
+            read(*b.aabbs, h.aabbs);
+            h.meta = b.info();
+            m.host.push_back(std::move(h));
+        }
+        m.host_ready = true;
+    }
+    return m.host;
+}
+
+// The split construction: every geometry's parts, merged on the host unless one lane built all.
+void split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis,
+                     StageSplit& report, Merged& merged) {
     report = start_report(lanes, "construct", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
-    auto parts = run_shared<std::vector<HostBuild>>(lanes, weights, report, [&](Lane& lane, Interval iv) {
+    auto parts = run_shared<BuiltPart>(lanes, weights, report, [&](Lane& lane, Interval iv) {
         if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
         return build_part(lane, scene, spec.build[lane.slot], iv);
     });
-    std::vector<HostBuild> merged;
-    for (std::size_t g = 0; g < scene.geometries.size(); ++g) {
-        std::vector<const HostBuild*> of_g;
-        for (const auto& p : parts) of_g.push_back(&p.result[g]);
-        merged.push_back(merge(of_g));
-        report.work += static_cast<double>(parts.front().result[g].total_weight);
+    for (std::size_t g = 0; g < scene.geometries.size(); ++g)
+        report.work += static_cast<double>(parts.front().result.host[g].total_weight);
+    if (parts.size() == 1 && parts.front().result.resident) {
+        merged.lane = parts.front().lane;
+        merged.resident.settings = spec.build[lanes[parts.front().lane].slot];
+        for (construct::GeometryBuild& b : *parts.front().result.resident) {
+            merged.resident.bricks += b.leaf_count;
+            merged.resident.build_ms += b.device_ms;
+            merged.resident.builds.push_back(std::move(b));
+        }
+    } else {
+        for (std::size_t g = 0; g < scene.geometries.size(); ++g) {
+            std::vector<const HostBuild*> of_g;
+            for (const auto& p : parts) of_g.push_back(&p.result.host[g]);
+            merged.host.push_back(merge(of_g));
+        }
+        merged.host_ready = true;
+        for (auto& p : parts) lanes[p.lane].spare = std::move(p.result.host);
     }
-    for (auto& p : parts) lanes[p.lane].spare = std::move(p.result);
     finish_report(report, spec.rates, lanes);
-    return merged;
 }
 
 // ---- tracing ----
@@ -620,8 +671,8 @@ render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vecto
 }
 
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
-render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, const std::vector<HostBuild>& merged,
-                                const SplitSpec& spec, const RateStore* basis, StageSplit& report) {
+render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Merged& merged, const SplitSpec& spec,
+                                const RateStore* basis, StageSplit& report) {
     report = start_report(lanes, "trace", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
     const render::TraceSettings& first = spec.trace.front();
@@ -637,11 +688,17 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
     auto parts = run_shared<render::TraceResult>(lanes, weights, report, [&](Lane& lane, Interval iv) {
         if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
         measure::Scheduler scheduler(*lane.device);
-        if (!lane.traced) lane.traced = traced_copy(lane, scene, merged, spec.build[lane.slot], scheduler);
+        const bool home = merged.lane == lane.slot;
+        if (home && !merged.prepared) {  // the lane that holds the construction traces it where it is
+            render::prepare_tracing(lane.tools->bvh(), scene, merged.resident, scheduler);
+            merged.prepared = true;
+        }
+        if (!home && !lane.traced)
+            lane.traced = traced_copy(lane, scene, host_copy(merged, lanes), spec.build[lane.slot], scheduler);
         const auto [a, b] = covered(prefix, iv);
         const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
-        render::TraceResult r = lane.tools->tracer().render(scene, *lane.traced, camera, spec.trace[lane.slot],
-                                                            scheduler, rows);
+        render::TraceResult r = lane.tools->tracer().render(scene, home ? merged.resident : *lane.traced, camera,
+                                                            spec.trace[lane.slot], scheduler, rows);
         lane.kernels_ms += scheduler.total_ms();
         return r;
     });
@@ -666,15 +723,19 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, co
     return out;
 }
 
-// The merged bricks on the first live device that takes them (for digests and what follows).
-render::SceneBricks home_bricks(std::vector<Lane>& lanes, const std::vector<HostBuild>& merged, const SplitSpec& spec,
-                                Lane*& home) {
+// The merged bricks on the first live device that takes them (for digests and what follows): where
+// they are when one lane holds the construction.
+render::SceneBricks home_bricks(std::vector<Lane>& lanes, Merged& merged, const SplitSpec& spec, Lane*& home) {
+    if (merged.lane && lanes[*merged.lane].alive()) {
+        home = &lanes[*merged.lane];
+        return std::move(merged.resident);
+    }
     for (Lane& l : lanes) {
         if (!l.alive()) continue;
         home = &l;
         if (l.traced) return std::move(*l.traced);
         try {
-            return upload_scene(merged, spec.build[l.slot], *l.device);
+            return upload_scene(host_copy(merged, lanes), spec.build[l.slot], *l.device);
         } catch (const std::exception& e) {
             l.failure = e.what();
             l.error = std::current_exception();
@@ -685,7 +746,8 @@ render::SceneBricks home_bricks(std::vector<Lane>& lanes, const std::vector<Host
 
 SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis) {
     SplitRun out;
-    const std::vector<HostBuild> merged = split_construct(lanes, scene, spec, basis, out.construct);
+    Merged merged;
+    split_construct(lanes, scene, spec, basis, out.construct, merged);
     if (spec.work == Work::trace) {
         for (Lane& l : lanes) l.traced.reset();
         out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing);

@@ -226,8 +226,9 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
     if (outputs.digest) {
         if (count != pixels) throw std::invalid_argument("BrickTracer::render: a digest covers whole images, not bands of rows");
         if (!f.digest) f.digest.emplace(device_);
-        const std::array<std::uint64_t, 2> parts{f.digest->digest(f.hit.get(), {pixels * sizeof(cl_float4), 1, 0, 1}),
-                                                 f.digest->digest(f.aux.get(), {pixels * sizeof(cl_uint2), 1, 0, 1})};
+        f.digest->enqueue(f.hit.get(), {pixels * sizeof(cl_float4), 1, 0, 1});
+        f.digest->enqueue(f.aux.get(), {pixels * sizeof(cl_uint2), 1, 0, 1});
+        const std::vector<std::uint64_t> parts = f.digest->read_all();
         out.digest = Fnv1a64().add_values(std::span<const std::uint64_t>(parts)).hex();
     }
     if (outputs.image) {
