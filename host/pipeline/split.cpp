@@ -671,8 +671,10 @@ render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vecto
 }
 
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
+// A lane that traces every row keeps the image on its device: its digest is computed there and the
+// image crosses only when `image` asks for it. Bands are read back and merged on the host.
 render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Merged& merged, const SplitSpec& spec,
-                                const RateStore* basis, StageSplit& report) {
+                                const RateStore* basis, StageSplit& report, bool image) {
     report = start_report(lanes, "trace", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
     const render::TraceSettings& first = spec.trace.front();
@@ -697,11 +699,18 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Me
             lane.traced = traced_copy(lane, scene, host_copy(merged, lanes), spec.build[lane.slot], scheduler);
         const auto [a, b] = covered(prefix, iv);
         const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
-        render::TraceResult r = lane.tools->tracer().render(scene, home ? merged.resident : *lane.traced, camera,
-                                                            spec.trace[lane.slot], scheduler, rows);
+        const bool whole = iv.f0 == 0.0 && iv.f1 == 1.0;
+        render::TraceResult r =
+            lane.tools->tracer().render(scene, home ? merged.resident : *lane.traced, camera, spec.trace[lane.slot],
+                                        scheduler, rows, {!whole || image, whole && spec.trace_digests});
         lane.kernels_ms += scheduler.total_ms();
         return r;
     });
+    report.work = static_cast<double>(first.width) * first.height;
+    if (parts.size() == 1 && parts.front().span.f0 == 0.0 && parts.front().span.f1 == 1.0) {
+        finish_report(report, spec.rates, lanes);
+        return std::move(parts.front().result);
+    }
     render::TraceResult out;
     out.work.pixels = static_cast<std::uint64_t>(first.width) * first.height;
     out.buffer = RenderBuffer(first.width, first.height);
@@ -718,7 +727,7 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Me
         out.shade_ms += p.result.shade_ms;
         out.work += p.result.work;
     }
-    report.work = static_cast<double>(first.width) * first.height;
+    if (spec.trace_digests) out.digest = buffer_digest(out.buffer);
     finish_report(report, spec.rates, lanes);
     return out;
 }
@@ -744,14 +753,15 @@ render::SceneBricks home_bricks(std::vector<Lane>& lanes, Merged& merged, const 
     throw_all_failed(lanes);
 }
 
-SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis) {
+SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis,
+                    bool last) {
     SplitRun out;
     Merged merged;
     split_construct(lanes, scene, spec, basis, out.construct, merged);
     if (spec.work == Work::trace) {
         for (Lane& l : lanes) l.traced.reset();
-        out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing);
-        out.trace_digest = buffer_digest(out.trace->buffer);
+        out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing, spec.image && last);
+        out.trace_digest = out.trace->digest;
     }
     Lane* home = nullptr;
     out.bricks = home_bricks(lanes, merged, spec, home);
@@ -785,7 +795,7 @@ SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene,
     std::vector<double> construct_ms, trace_ms;
     bool identical = true;
     for (int pass = 0; pass < spec.warmup + spec.repeat; ++pass) {
-        SplitRun run = split_pass(lanes, scene, spec, basis ? &*basis : nullptr);
+        SplitRun run = split_pass(lanes, scene, spec, basis ? &*basis : nullptr, pass + 1 == spec.warmup + spec.repeat);
         if (pass < spec.warmup) continue;
         construct_ms.push_back(run.construct.wall_ms);
         if (run.trace) trace_ms.push_back(run.tracing.wall_ms);

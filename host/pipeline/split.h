@@ -105,6 +105,8 @@ struct SplitSpec {
     int warmup = 0;
     int repeat = 1;  // timed passes (captures) after the warm-ups
     bool brick_digests = true;
+    bool trace_digests = true;  // the image's digest every pass
+    bool image = true;          // the last pass's image read back (SplitRun::trace->buffer, colour)
     RateStore* rates = nullptr;  // shares from it; the measured rates are written back
 };
 

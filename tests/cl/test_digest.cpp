@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cl/digest.h"
+#include "cl/memory_pool.h"
 #include "core/hash.h"
 #include "core/rng.h"
 #include "test_support.h"
@@ -100,6 +101,51 @@ TEST(ClDigest, LeafListsEqualHostAndFollowEveryEntry) {
     ll.write(changed);
     EXPECT_EQ(digest.leaf_lists(lb, ll), host(changed));
     EXPECT_NE(host(changed), host(lists));
+}
+
+TEST(ClDigest, BatchedDigestsEqualSingleOnes) {
+    ocl::Device& d = test::device();
+    ocl::DeviceDigest digest(d);
+    std::vector<std::uint64_t> singles;
+    std::vector<ocl::Buffer<std::uint8_t>> buffers;
+    for (std::size_t n : {std::size_t{0}, std::size_t{10}, 70 * kTreeDigestBlock + 3}) {
+        const std::vector<std::uint8_t> v = random_bytes(n, n);
+        buffers.emplace_back(d, std::span<const std::uint8_t>(v));
+        singles.push_back(tree_digest(std::as_bytes(std::span(v))));
+    }
+    for (int round = 0; round < 20; ++round)  // more slots than the first results buffer holds
+        for (const auto& b : buffers) digest.enqueue(b.get(), {b.bytes(), 1, 0, 1});
+    const std::vector<std::uint64_t> all = digest.read_all();
+    ASSERT_EQ(all.size(), 60u);
+    for (std::size_t i = 0; i < all.size(); ++i) EXPECT_EQ(all[i], singles[i % 3]) << i;
+    EXPECT_TRUE(digest.read_all().empty());
+}
+
+// Kept memory fits requests up to twice smaller, the smallest first; trim frees what was not taken
+// again since the last trim.
+TEST(ClMemoryPool, TakesTheSmallestFitAndTrimsWhatWasNotReused) {
+    ocl::Device& d = test::device();
+    ocl::MemoryPool pool;
+    std::size_t capacity = 0;
+    EXPECT_FALSE(pool.take(100, capacity));
+    const auto make = [&](std::size_t bytes) {
+        cl_int status = CL_SUCCESS;
+        return ocl::MemObject(clCreateBuffer(d.context(), CL_MEM_READ_WRITE, bytes, nullptr, &status));
+    };
+    pool.give(make(1000), 1000);
+    pool.give(make(400), 400);
+    EXPECT_FALSE(pool.take(1001, capacity));
+    EXPECT_FALSE(pool.take(150, capacity));  // 400 is more than twice 150
+    EXPECT_TRUE(pool.take(300, capacity));
+    EXPECT_EQ(capacity, 400u);
+    pool.trim();  // 1000 was given back before this trim
+    EXPECT_EQ(pool.kept_bytes(), 1000u);
+    pool.trim();  // and not taken since
+    EXPECT_EQ(pool.kept_bytes(), 0u);
+    EXPECT_EQ(ocl::pooled_capacity(100000, 1 << 30) % 8192, 0u);
+    EXPECT_GE(ocl::pooled_capacity(100000, 1 << 30), 100000u);
+    EXPECT_LE(ocl::pooled_capacity(100000, 1 << 30), 100000u + 100000u / 8);
+    EXPECT_EQ(ocl::pooled_capacity(100000, 100000), 100000u);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/hash.h"
 #include "pipeline/run.h"
 #include "scene/scene_json.h"
 #include "test_support.h"
@@ -88,6 +89,80 @@ TEST(PipelineRun, TraceOnlyLoopMatchesTheFullPass) {
     EXPECT_EQ(stages_of(traced.captures.front()), (std::set<std::string>{"trace"}));
     EXPECT_TRUE(traced.identical);
     EXPECT_EQ(traced.trace_digest, full.trace_digest);
+}
+
+Scene scene_named(const char* name) {
+    const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
+    return scene_at(file, file.time);
+}
+
+// A device whose pool holds another scene's memory (stale bytes in every reused buffer) gives the
+// bits of a newly opened one, in every capture; the later passes do reuse memory.
+TEST(PipelineRun, ReusedMemoryGivesTheBitsOfAFreshDevice) {
+    const Scene rain = scene_named("rain");
+    pipeline::RunSpec s = spec(pipeline::Work::trace, 0, 1);
+    s.brick_digests = true;
+    s.trace.shade = true;
+    ocl::DeviceSet fresh = test::open_test_devices();
+    pipeline::Runner first(fresh[0]);
+    const pipeline::Run clean = first.run(rain, s);
+    runner().run(spheres(), s);  // leaves its buffers in the shared device's pool
+    const std::size_t reused = test::device().memory_pool()->reused();
+    s.repeat = 3;
+    const pipeline::Run again = runner().run(rain, s);
+    EXPECT_GT(test::device().memory_pool()->reused(), reused);
+    EXPECT_TRUE(again.identical);
+    EXPECT_EQ(again.brick_digest, clean.brick_digest);
+    EXPECT_EQ(again.list_digest, clean.list_digest);
+    EXPECT_EQ(again.trace_digest, clean.trace_digest);
+    ASSERT_TRUE(again.trace && clean.trace);
+    EXPECT_EQ(again.trace->colour.pixels, clean.trace->colour.pixels);
+}
+
+// What the device reduces and digests equals what the host computes from the arrays read back.
+TEST(PipelineRun, DeviceCountersAndDigestsEqualTheHosts) {
+    const Scene scene = scene_named("rain");
+    pipeline::RunSpec s = spec(pipeline::Work::trace, 0, 1);
+    s.brick_digests = true;
+    const pipeline::Run run = runner().run(scene, s);
+    ASSERT_TRUE(run.trace.has_value());
+    const render::WorkCounts host = render::work_counts(run.trace->buffer);
+    const render::WorkCounts device = run.trace->work.per_pixel();
+    EXPECT_EQ(device.node_visits, host.node_visits);
+    EXPECT_EQ(device.brick_steps, host.brick_steps);
+    EXPECT_EQ(device.capped_rays, host.capped_rays);
+    Fnv1a64 bricks, lists;
+    for (const construct::GeometryBuild& b : run.bricks.builds) {
+        bricks.add_part(construct::output_digest(b, s.build));
+        lists.add_part(construct::list_digest(b));
+        const std::vector<SdfBrick> leaves = b.leaves->read();
+        std::uint64_t entries = 0;
+        std::uint32_t longest = 0;
+        for (const SdfBrick& r : leaves) {
+            entries += r.edit_count;
+            longest = std::max(longest, r.edit_count);
+        }
+        ASSERT_FALSE(b.level_reports.empty());
+        EXPECT_EQ(b.level_reports.back().max_edits, longest);
+        EXPECT_EQ(b.level_reports.back().edit_entries, entries);
+        EXPECT_EQ(b.edits_per_leaf_max, longest);
+    }
+    EXPECT_EQ(run.brick_digest, bricks.hex());
+    EXPECT_EQ(run.list_digest, lists.hex());
+}
+
+// Without RunSpec::image nothing of the image comes back, and its digest is the same.
+TEST(PipelineRun, ImageStaysOnTheDeviceUnlessAsked) {
+    pipeline::RunSpec s = spec(pipeline::Work::trace, 0, 2);
+    const pipeline::Run with = runner().run(spheres(), s);
+    s.image = false;
+    const pipeline::Run without = runner().run(spheres(), s);
+    ASSERT_TRUE(with.trace && without.trace);
+    EXPECT_EQ(with.trace->buffer.pixels(), 64u * 48u);
+    EXPECT_EQ(without.trace->buffer.pixels(), 0u);
+    EXPECT_EQ(without.trace_digest, with.trace_digest);
+    EXPECT_EQ(without.trace->work.node_visits, with.trace->work.node_visits);
+    EXPECT_EQ(without.wall_ms.samples.size(), 2u);
 }
 
 TEST(PipelineRun, RefusesBadCounts) {
