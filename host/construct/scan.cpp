@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "cl/cl_error.h"
 #include "cl/launch.h"
 #include "core/errors.h"
 
@@ -13,7 +14,7 @@ namespace sdfbrick::construct {
 Scan::Scan(ocl::Device& device)
     : device_(device), program_(ocl::build_program(device, "scan.cl")),
       blocks_(ocl::make_kernel(program_, "scan_blocks")), add_(ocl::make_kernel(program_, "scan_add")),
-      overflow_(device, 1) {
+      overflow_(device, 3) {
     const std::size_t limit = std::min(ocl::kernel_work_group_limit(device, blocks_.get(), "scan_blocks"),
                                        ocl::kernel_work_group_limit(device, add_.get(), "scan_add"));
     while (local_ > 1 && local_ > limit) local_ /= 2;  // stays a power of two
@@ -38,11 +39,15 @@ std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uin
     if (n == 0) return 0;
     if (n > in.size() || n > out.size()) throw std::out_of_range("Scan::exclusive: n exceeds a buffer");
     if (n > 0xffffffffu) throw InputError(fmt::format("a prefix sum over {} values exceeds 2^32 values", n));
-    const std::array<cl_uint, 1> zero{0};
-    overflow_.write(zero);
-    // The total is the last exclusive value plus the last input (read first: in may be out).
-    std::array<cl_uint, 1> last_out{}, last_in{}, overflow{};
-    in.read_into(last_in, n - 1);
+    // One wait per scan: the overflow flag is cleared, and the last input (before the scan: in may be
+    // out) and the last output copied beside it, on the device; one read brings the three back.
+    const cl_uint zero = 0;
+    const cl_command_queue q = device_.queue();
+    ocl::check(clEnqueueFillBuffer(q, overflow_.get(), &zero, sizeof(zero), 0, sizeof(zero), 0, nullptr, nullptr),
+               "clearing the scan's overflow flag");
+    ocl::check(clEnqueueCopyBuffer(q, in.get(), overflow_.get(), (n - 1) * sizeof(cl_uint), sizeof(cl_uint),
+                                   sizeof(cl_uint), 0, nullptr, nullptr),
+               "copying the scan's last input");
     // Block-total buffers for every recursion depth, allocated before the recursion starts.
     for (std::size_t m = n, depth = 0;; ++depth) {
         const std::size_t blocks = (m + block_size() - 1) / block_size();
@@ -58,10 +63,13 @@ std::uint64_t Scan::exclusive(const ocl::Buffer<cl_uint>& in, ocl::Buffer<cl_uin
         m = blocks;
     }
     scan_level(in, out, n, 0, scheduler, stage, level);
-    out.read_into(last_out, n - 1);
-    overflow_.read_into(overflow);
-    const std::uint64_t total = std::uint64_t{last_out[0]} + last_in[0];
-    if (overflow[0] != 0 || total > 0xffffffffu)
+    ocl::check(clEnqueueCopyBuffer(q, out.get(), overflow_.get(), (n - 1) * sizeof(cl_uint), 2 * sizeof(cl_uint),
+                                   sizeof(cl_uint), 0, nullptr, nullptr),
+               "copying the scan's last output");
+    std::array<cl_uint, 3> flags{};  // overflow, last input, last output
+    overflow_.read_into(flags);
+    const std::uint64_t total = std::uint64_t{flags[2]} + flags[1];
+    if (flags[0] != 0 || total > 0xffffffffu)
         throw InputError(fmt::format("a prefix sum in stage {} exceeds 2^32 (too many bricks or edit-list entries "
                                      "for one build: use a larger brick size)",
                                      to_string(stage)));

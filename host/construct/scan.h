@@ -38,7 +38,7 @@ private:
     ocl::Program program_;
     ocl::Kernel blocks_, add_;
     std::size_t local_ = 256;
-    ocl::Buffer<cl_uint> overflow_;
+    ocl::Buffer<cl_uint> overflow_;  // [0] the kernels' overflow flag, [1] the last input, [2] the last output
     std::vector<ocl::Buffer<cl_uint>> sums_;     // block totals per recursion depth
     std::vector<ocl::Buffer<cl_uint>> offsets_;  // their exclusive scans
 };
