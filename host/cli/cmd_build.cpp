@@ -102,9 +102,9 @@ std::string to_text(const BuildReport& r, bool kernel_table) {
 DeviceBuildReport build_on(ocl::Device& device, const Scene& scene, const BuildOptions& o, const tune::TuningDb* db) {
     DeviceBuildReport d;
     d.device = device.info();
-    d.settings = o.flags.resolve();
-    d.tuning = tune::apply_tuning(db, device.info(), o.flags.given(), d.settings, nullptr);
-    d.settings.validate(device.info());
+    tune::Resolved r = tune::resolve_settings(o.flags.resolve(), nullptr, db, device.info(), o.flags.given());
+    d.settings = r.build;
+    d.tuning = std::move(r.tuning);
     pipeline::Runner runner(device);
     const pipeline::Run run =
         runner.run(scene, {pipeline::Work::construct, d.settings, {}, o.measure.warmups(), o.measure.repeat, true});
@@ -119,12 +119,8 @@ void run_build_split(const BuildOptions& o, const GlobalOptions& global, const S
     const TuningChoice tuning = open_tuning(global);
     pipeline::SplitSpec spec;
     spec.work = pipeline::Work::construct;
-    for (ocl::Device* device : d.devices) {
-        construct::BuildSettings s = o.flags.resolve();
-        tune::apply_tuning(tuning.get(), device->info(), o.flags.given(), s, nullptr);
-        s.validate(device->info());
-        spec.build.push_back(s);
-    }
+    for (ocl::Device* device : d.devices)
+        spec.build.push_back(tune::resolve_settings(o.flags.resolve(), nullptr, tuning.get(), device->info(), o.flags.given()).build);
     spec.warmup = o.measure.warmups();
     spec.repeat = o.measure.repeat;
     spec.rates = &d.rates;

@@ -14,6 +14,7 @@
 #include "exchange/sample.h"
 #include "exchange/vdb.h"
 #include "pipeline/run.h"
+#include "tune/apply.h"
 #include "scene/scene_json.h"
 
 namespace sdfbrick::cli {
@@ -43,10 +44,10 @@ HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global) {
     const Scene file_scene = load_scene(o.file);
     HostScene h;
     h.scene = scene_at(file_scene, o.time.value_or(file_scene.time));
-    h.settings = o.flags.resolve();
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     ocl::Device& device = *devices.begin();
-    h.settings.validate(device.info());
+    const TuningChoice tuning = open_tuning(global);
+    h.settings = tune::resolve_settings(o.flags.resolve(), nullptr, tuning.get(), device.info(), o.flags.given()).build;
     h.device = device.info().name;
     pipeline::Runner runner(device);
     const pipeline::Run run = runner.run(h.scene, {pipeline::Work::construct, h.settings, {}, 0, 1, false});

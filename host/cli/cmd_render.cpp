@@ -265,12 +265,13 @@ void render_bricks(ocl::Device& device, const Scene& scene, const RenderOptions&
                    const construct::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_tree,
                    DeviceRender& r) {
     BrickRender b;
-    b.settings = base_settings;
-    render::TraceSettings trace = o.trace;
     tune::Given given = o.flags.given();
     given.trace_group = o.trace_group_given;
-    b.tuning = tune::apply_tuning(tuning_db, device.info(), given, b.settings, &trace);
-    const pipeline::RunSpec spec{pipeline::Work::trace, b.settings, trace, o.measure.warmups(), o.measure.repeat};
+    tune::Resolved resolved = tune::resolve_settings(base_settings, &o.trace, tuning_db, device.info(), given);
+    b.settings = resolved.build;
+    b.tuning = std::move(resolved.tuning);
+    const pipeline::RunSpec spec{pipeline::Work::trace, b.settings, resolved.trace, o.measure.warmups(),
+                                 o.measure.repeat};
     pipeline::Runner runner(device);
     pipeline::Run run = runner.run(scene, spec);
     b.figures = pipeline::render_figures(run, spec, device.info());
@@ -386,12 +387,9 @@ void run_render_split(const RenderOptions& o, const GlobalOptions& global, const
     tune::Given given = o.flags.given();
     given.trace_group = o.trace_group_given;
     for (ocl::Device* device : d.devices) {
-        construct::BuildSettings s = o.flags.resolve();
-        render::TraceSettings trace = o.trace;
-        tune::apply_tuning(tuning.get(), device->info(), given, s, &trace);
-        s.validate(device->info());
-        spec.build.push_back(s);
-        spec.trace.push_back(trace);
+        const tune::Resolved r = tune::resolve_settings(o.flags.resolve(), &o.trace, tuning.get(), device->info(), given);
+        spec.build.push_back(r.build);
+        spec.trace.push_back(r.trace);
     }
     spec.warmup = o.measure.warmups();
     spec.repeat = o.measure.repeat;

@@ -61,9 +61,11 @@ sweep::StabilitySpec make_spec(const StabilityOptions& o) {
 
 void run_stability_command(const StabilityOptions& o, const GlobalOptions& global) {
     apply_global_options(global);
-    const sweep::StabilitySpec spec = make_spec(o);
+    sweep::StabilitySpec spec = make_spec(o);
     if (o.json) check_output_path(*o.json);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
+    const TuningChoice tuning = open_tuning(global);
+    spec.tuning = tuning.get();
     const bool terminal = isatty(STDERR_FILENO) != 0;
     const auto progress = [terminal](const sweep::StabilityProgress& p) {
         if (!terminal) return;

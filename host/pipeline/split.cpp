@@ -434,8 +434,8 @@ void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lan
 
 // One geometry's part (or merged whole) on the host.
 
-// Reads b's arrays back into h's (memory from an earlier pass, or none).
-HostBuild to_host(construct::GeometryBuild b, Lane& lane, HostBuild h) {
+// Reads b's arrays back into h's (memory from an earlier pass, or none), as copies of lane's.
+HostBuild to_host(const construct::GeometryBuild& b, Lane& lane, HostBuild h) {
     const auto read = [&](const auto& buffer, auto& out) {
         out.resize(buffer.size());
         lane.copy(buffer.bytes(), [&] { buffer.read_into(std::span(out)); });
@@ -444,7 +444,7 @@ HostBuild to_host(construct::GeometryBuild b, Lane& lane, HostBuild h) {
     read(*b.leaf_edit_indices, h.lists);
     read(*b.pool, h.pool);
     read(*b.aabbs, h.aabbs);
-    h.meta = std::move(b.info());
+    h.meta = b.info();
     return h;
 }
 
@@ -479,7 +479,7 @@ BuiltPart build_part(Lane& lane, const Scene& scene, const construct::BuildSetti
             out.resident->push_back(std::move(b));
         } else {
             HostBuild recycled = gi < lane.spare.size() ? std::move(lane.spare[gi]) : HostBuild{};
-            h = to_host(std::move(b), lane, std::move(recycled));
+            h = to_host(b, lane, std::move(recycled));
         }
         h.split_level = split_level;
         h.total_weight = total;
@@ -603,19 +603,7 @@ const std::vector<HostBuild>& host_copy(Merged& m, std::vector<Lane>& lanes) {
     if (!m.host_ready) {
         Lane& home = lanes[*m.lane];
         m.host.clear();
-        for (const construct::GeometryBuild& b : m.resident.builds) {
-            HostBuild h;
-            const auto read = [&](const auto& buffer, auto& out) {
-                out.resize(buffer.size());
-                home.copy(buffer.bytes(), [&] { buffer.read_into(std::span(out)); });
-            };
-            read(*b.leaves, h.leaves);
-            read(*b.leaf_edit_indices, h.lists);
-            read(*b.pool, h.pool);
-            read(*b.aabbs, h.aabbs);
-            h.meta = b.info();
-            m.host.push_back(std::move(h));
-        }
+        for (const construct::GeometryBuild& b : m.resident.builds) m.host.push_back(to_host(b, home, {}));
         m.host_ready = true;
     }
     return m.host;

@@ -100,9 +100,10 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
     trace.method = *render::method_from_string(p.method);
     trace.normals = *render::normals_from_string(p.normals);
     if (p.trace_group) std::tie(trace.group_x, trace.group_y) = parse_group_2d(*p.trace_group, "trace group");
-    tune::apply_tuning(tuning, device.info(), {p.chunk.has_value(), p.group.has_value(), p.trace_group.has_value()},
-                       settings, &trace);
-    settings.validate(device.info());
+    const tune::Resolved resolved = tune::resolve_settings(
+        settings, &trace, tuning, device.info(), {p.chunk.has_value(), p.group.has_value(), p.trace_group.has_value()});
+    settings = resolved.build;
+    trace = resolved.trace;
 
     if (!state.runner) state.runner = std::make_unique<pipeline::Runner>(device);
     const pipeline::RunSpec run_spec{pipeline::Work::trace, settings, trace, spec.warmup, spec.repeat};

@@ -19,6 +19,7 @@
 #include "render/pictures.h"
 #include "scene/scene_json.h"
 #include "scene/to_device.h"
+#include "tune/apply.h"
 
 namespace sdfbrick::sweep {
 
@@ -89,6 +90,7 @@ struct DeviceLane {
     ocl::Device* device = nullptr;
     std::unique_ptr<pipeline::Runner> runner;
     std::optional<pipeline::Run> build;
+    tune::Resolved settings;  // the case's build with this device's tuning
 };
 
 construct::BuildSettings build_settings(const StabilityCase& c, const BuildChoice& b, double tolerance_voxels) {
@@ -122,9 +124,11 @@ public:
     std::string build(const BuildChoice& b) {
         settings_ = build_settings(case_, b, spec_.tolerance_voxels);
         try {
+            const render::TraceSettings untuned;
             for (DeviceLane& lane : lanes_) {
                 lane.build.reset();
-                lane.build = lane.runner->run(scene_, {pipeline::Work::bvh, settings_, {}, 0, 1});
+                lane.settings = tune::resolve_settings(settings_, &untuned, spec_.tuning, lane.device->info(), {});
+                lane.build = lane.runner->run(scene_, {pipeline::Work::bvh, lane.settings.build, {}, 0, 1});
             }
         } catch (const std::exception& e) {
             return e.what();
@@ -163,9 +167,11 @@ private:
         t.height = spec_.height;
         t.method = c.method;
         t.normals = c.normals;
-        const pipeline::RunSpec run_spec{pipeline::Work::trace, settings_, t, 0, 1};
         std::optional<RenderBuffer> first;
         for (DeviceLane& lane : lanes_) {
+            t.group_x = lane.settings.trace.group_x;
+            t.group_y = lane.settings.trace.group_y;
+            const pipeline::RunSpec run_spec{pipeline::Work::trace, lane.settings.build, t, 0, 1};
             pipeline::Run run = lane.runner->trace(scene_, lane.build->bricks, run_spec);
             RenderBuffer& buffer = run.trace->buffer;
             if (first) {
@@ -252,7 +258,7 @@ StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices
     std::vector<DeviceLane> lanes;
     for (ocl::Device& d : devices) {
         report.devices.push_back(d.info().name);
-        lanes.push_back({&d, std::make_unique<pipeline::Runner>(d), std::nullopt});
+        lanes.push_back({&d, std::make_unique<pipeline::Runner>(d), std::nullopt, {}});
     }
     StabilityProgress p;
     p.total = spec.cases.size() * lists.builds.size() * lists.methods.size() * lists.normals.size();

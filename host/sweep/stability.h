@@ -16,6 +16,7 @@
 #include "construct/brick_layout.h"
 #include "reference/accuracy.h"
 #include "render/brick_tracer.h"
+#include "tune/tuning_db.h"
 
 namespace sdfbrick::sweep {
 
@@ -47,6 +48,7 @@ struct StabilitySpec {
     double tolerance_voxels = 0.25;              // adaptive builds: tolerance in voxels of the finest brick
     int width = 321, height = 181;               // odd: the centre row and column of rays are exact (face_rays)
     std::optional<std::string> pictures;         // folder for each case's reference, render and difference pictures
+    const tune::TuningDb* tuning = nullptr;      // each device's tuned chunk and work-groups (change no bit); null: off
 };
 
 // One cell: a case with one method, normal rule, format and build, on every selected device.

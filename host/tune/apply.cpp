@@ -76,4 +76,12 @@ Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Gi
     return out;
 }
 
+Resolved resolve_settings(const construct::BuildSettings& given_settings, const render::TraceSettings* trace,
+                          const TuningDb* db, const ocl::DeviceInfo& device, const Given& given) {
+    Resolved r{given_settings, trace ? *trace : render::TraceSettings{}, {}};
+    r.tuning = apply_tuning(db, device, given, r.build, trace ? &r.trace : nullptr);
+    r.build.validate(device);
+    return r;
+}
+
 }  // namespace sdfbrick::tune

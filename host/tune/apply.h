@@ -32,4 +32,17 @@ struct Applied {
 Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Given& given,
                      construct::BuildSettings& settings, render::TraceSettings* trace);
 
+// One device's settings, resolved in one place: the settings as given (flags or sweep keys), the
+// tuning database's values for the parameters not given, then validation for that device (throws
+// SettingError naming the setting). Every verb, the sweep and the stability atlas resolve their
+// settings through it, once per device.
+struct Resolved {
+    construct::BuildSettings build;
+    render::TraceSettings trace;
+    Applied tuning;
+};
+// trace: null for construction-only work (its trace settings are then the defaults, untuned).
+Resolved resolve_settings(const construct::BuildSettings& given_settings, const render::TraceSettings* trace,
+                          const TuningDb* db, const ocl::DeviceInfo& device, const Given& given);
+
 }  // namespace sdfbrick::tune
