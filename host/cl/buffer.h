@@ -73,14 +73,12 @@ public:
     // count elements (read-write) from the device's pool where kept memory fits, else newly
     // allocated with some headroom (pooled_capacity) and the same checks as above.
     Buffer(Pooled, Device& device, std::size_t count) : device_(&device), count_(count) {
+        const std::size_t limit = device.info().max_alloc_bytes;
+        const bool fits = count <= limit / sizeof(T);  // else the plain constructor below refuses it
         const std::size_t wanted = count == 0 ? sizeof(T) : count * sizeof(T);
-        if (count > std::numeric_limits<std::size_t>::max() / sizeof(T) || wanted > device.info().max_alloc_bytes) {
-            *this = Buffer(device, count);  // throws the plain constructor's error
-            return;
-        }
-        memory_ = device.memory_pool()->take(wanted, capacity_);
+        if (fits) memory_ = device.memory_pool()->take(wanted, capacity_);
         if (!memory_) {
-            Buffer fresh(device, pooled_capacity(wanted, device.info().max_alloc_bytes) / sizeof(T));
+            Buffer fresh(device, fits ? pooled_capacity(wanted, limit) / sizeof(T) : count);
             memory_ = std::move(fresh.memory_);
             capacity_ = fresh.capacity_;
         }

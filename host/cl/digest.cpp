@@ -104,19 +104,9 @@ std::size_t DeviceDigest::enqueue(cl_mem data, const Records& w) {
     }
     const std::size_t per_block = block_bytes(w.take) / w.take;
     const std::size_t blocks = (w.records + per_block - 1) / per_block;
-    Buffer<cl_ulong>& out = scratch(0, blocks);
-    const cl_ulong records = w.records;
-    const cl_uint stride = static_cast<cl_uint>(w.stride), first = static_cast<cl_uint>(w.first),
-                  take = static_cast<cl_uint>(w.take), per = static_cast<cl_uint>(per_block);
-    const cl_mem out_mem = out.get();
-    cl_kernel k = blocks_.get();
-    detail::set_kernel_arg(k, 0, sizeof(cl_mem), &data, "buffer");
-    detail::set_kernel_arg(k, 1, sizeof(records), &records, "scalar");
-    detail::set_kernel_arg(k, 2, sizeof(stride), &stride, "scalar");
-    detail::set_kernel_arg(k, 3, sizeof(first), &first, "scalar");
-    detail::set_kernel_arg(k, 4, sizeof(take), &take, "scalar");
-    detail::set_kernel_arg(k, 5, sizeof(per), &per, "scalar");
-    detail::set_kernel_arg(k, 6, sizeof(cl_mem), &out_mem, "buffer");
+    set_args(blocks_.get(), data, static_cast<cl_ulong>(w.records), static_cast<cl_uint>(w.stride),
+             static_cast<cl_uint>(w.first), static_cast<cl_uint>(w.take), static_cast<cl_uint>(per_block),
+             scratch(0, blocks));
     enqueue_kernel(blocks);
     return reduce(blocks);
 }

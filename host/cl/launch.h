@@ -31,6 +31,10 @@ void set_arg(cl_kernel kernel, cl_uint index, const Buffer<T>& buffer) {
     set_kernel_arg(kernel, index, sizeof(memory), &memory, "buffer");
 }
 
+inline void set_arg(cl_kernel kernel, cl_uint index, cl_mem memory) {
+    set_kernel_arg(kernel, index, sizeof(memory), &memory, "buffer");
+}
+
 inline void set_arg(cl_kernel kernel, cl_uint index, LocalMemory local) {
     set_kernel_arg(kernel, index, local.bytes, nullptr, "local memory");
 }
@@ -43,7 +47,7 @@ void set_arg(cl_kernel kernel, cl_uint index, T value) {
 
 }  // namespace detail
 
-// Sets the kernel's arguments 0, 1, ... in order: a Buffer<T> passes its cl_mem, an arithmetic
+// Sets the kernel's arguments 0, 1, ... in order: a Buffer<T> (or a cl_mem) passes its cl_mem, an arithmetic
 // value is passed by value (its C++ type must have the kernel parameter's size), LocalMemory{bytes}
 // sizes a __local pointer argument.
 template <class... Args>

@@ -919,14 +919,6 @@ std::vector<std::pair<std::string, std::string>> build_digests(std::span<const G
     return out;
 }
 
-std::string output_digest(const GeometryBuild& b, const BuildSettings& s, ocl::DeviceDigest& digest) {
-    return build_digests(std::span(&b, 1), s, digest).front().first;
-}
-
-std::string list_digest(const GeometryBuild& b, ocl::DeviceDigest& digest) {
-    return fmt::format("{:016x}", digest.leaf_lists(*b.leaves, *b.leaf_edit_indices));
-}
-
 std::string output_digest(const GeometryBuild& b, const BuildSettings& s) {
     const ocl::Records w = coordinate_records(b, s);
     const std::vector<SdfBrick> leaves = b.leaves->read();

@@ -172,15 +172,12 @@ private:
 // Digest of a build's output: domain, layout, and the tree digests (core/hash.h) of the leaf
 // coordinates (and levels, when adaptive) and of every pool byte. Equal iff the bricks and pools are
 // bit-identical. Edit lists are not part of it (culling changes them by design); list_digest covers
-// them (the tree digest of each leaf's FNV-1a 64 of its coordinate and list). With a DeviceDigest
-// they are computed on the device (8 bytes cross); without, the buffers are read back and hashed on
-// the host (the same values: the tests' twin).
-std::string output_digest(const GeometryBuild& b, const BuildSettings& s, ocl::DeviceDigest& digest);
-std::string list_digest(const GeometryBuild& b, ocl::DeviceDigest& digest);
-// Both for every build, enqueued together and read back with one wait: {output, list} per build.
-std::vector<std::pair<std::string, std::string>> build_digests(std::span<const GeometryBuild> builds,
-                                                               const BuildSettings& s, ocl::DeviceDigest& digest);
+// them (the tree digest of each leaf's FNV-1a 64 of its coordinate and list). These two read the
+// buffers back and hash them on the host (the tests' twin); build_digests computes the same values
+// on the device (8 bytes cross), for every build with one wait: {output, list} per build.
 std::string output_digest(const GeometryBuild& b, const BuildSettings& s);
 std::string list_digest(const GeometryBuild& b);
+std::vector<std::pair<std::string, std::string>> build_digests(std::span<const GeometryBuild> builds,
+                                                               const BuildSettings& s, ocl::DeviceDigest& digest);
 
 }  // namespace sdfbrick::construct

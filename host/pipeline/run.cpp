@@ -9,17 +9,16 @@
 
 namespace sdfbrick::pipeline {
 
+namespace {
+
 // What one pass produced.
-struct Runner::Pass {
+struct Pass {
     render::SceneBricks bricks;
     std::optional<render::TraceResult> trace;
     std::string brick_digest, list_digest, trace_digest;
     double construct_wall = 0.0, bvh_wall = 0.0, trace_wall = 0.0, digest_wall = 0.0;
 };
 
-namespace {
-
-using Pass = Runner::Pass;
 using Clock = std::chrono::steady_clock;
 
 // Runs fn and adds its wall time to ms.
@@ -83,17 +82,19 @@ Run repeat_passes(ocl::Device& device, const RunSpec& spec, PassFn&& pass) {
     return out;
 }
 
+// The trace of a pass: the image read back only for the last one, and only when asked.
+void trace_pass(render::BrickTracer& tracer, Pass& p, const Scene& scene, const render::SceneBricks& bricks,
+                const SdfCamera& camera, const RunSpec& spec, measure::Scheduler& scheduler, bool last) {
+    p.trace = timed(p.trace_wall, [&] {
+        return tracer.render(scene, bricks, camera, spec.trace, scheduler, {}, {spec.image && last, spec.trace_digests});
+    });
+    p.trace_digest = p.trace->digest;
+}
+
 }  // namespace
 
 Runner::Runner(ocl::Device& device) : builder_(device), bvh_(device), tracer_(device) {}
 
-void Runner::trace_pass(Pass& p, const Scene& scene, const render::SceneBricks& bricks, const SdfCamera& camera,
-                        const RunSpec& spec, measure::Scheduler& scheduler, bool last) {
-    p.trace = timed(p.trace_wall, [&] {
-        return tracer_.render(scene, bricks, camera, spec.trace, scheduler, {}, {spec.image && last, spec.trace_digests});
-    });
-    p.trace_digest = p.trace->digest;
-}
 Runner::~Runner() = default;
 
 ocl::DeviceDigest& Runner::digest() {
@@ -123,7 +124,7 @@ Run Runner::run(const Scene& scene, const RunSpec& spec) {
             p.brick_digest = std::move(d.bricks);
             p.list_digest = std::move(d.lists);
         }
-        if (camera) trace_pass(p, scene, p.bricks, *camera, spec, scheduler, last);
+        if (camera) trace_pass(tracer_, p, scene, p.bricks, *camera, spec, scheduler, last);
         return p;
     });
 }
@@ -132,7 +133,7 @@ Run Runner::trace(const Scene& scene, const render::SceneBricks& bricks, const R
     const SdfCamera camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
     return repeat_passes(device(), spec, [&](measure::Scheduler& scheduler, bool last) {
         Pass p;
-        trace_pass(p, scene, bricks, camera, spec, scheduler, last);
+        trace_pass(tracer_, p, scene, bricks, camera, spec, scheduler, last);
         return p;
     });
 }

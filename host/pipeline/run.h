@@ -66,11 +66,7 @@ public:
     // spec.build are not used): the trace tuner measures work-group shapes without rebuilding.
     Run trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec);
 
-    struct Pass;  // what one pass produced (run.cpp)
-
 private:
-    void trace_pass(Pass& p, const Scene& scene, const render::SceneBricks& bricks, const SdfCamera& camera,
-                    const RunSpec& spec, measure::Scheduler& scheduler, bool last);
     construct::BrickBuilder builder_;
     bvh::BvhBuilder bvh_;
     render::BrickTracer tracer_;

@@ -149,23 +149,37 @@ struct BrickTracer::Frame {
 BrickTracer::BrickTracer(ocl::Device& device) : device_(device) {}
 BrickTracer::~BrickTracer() = default;
 
+namespace {
+
+// An image's digest from the tree digests of its hit and aux bytes.
+std::string image_digest(std::span<const std::uint64_t> hit_and_aux) {
+    return Fnv1a64().add_values(hit_and_aux).hex();
+}
+
+}  // namespace
+
 std::string buffer_digest(const RenderBuffer& b) {
     const std::array<std::uint64_t, 2> parts{tree_digest(std::as_bytes(std::span(b.hit))),
                                              tree_digest(std::as_bytes(std::span(b.aux)))};
-    return Fnv1a64().add_values(std::span<const std::uint64_t>(parts)).hex();
+    return image_digest(parts);
 }
 
-// The counters of pixels [first, first + count), summed on the device; means over `pixels`.
-WorkTotals BrickTracer::count_work(std::size_t first, std::size_t count, std::size_t pixels) {
+// Enqueues the sums of the counters of pixels [first, first + count); returns the work-groups.
+std::size_t BrickTracer::enqueue_counts(std::size_t first, std::size_t count) {
     Frame& f = *frame_;
-    WorkTotals w;
-    w.pixels = pixels;
-    if (count == 0) return w;
+    if (count == 0) return 0;
     const std::size_t groups = std::min(Frame::kCountGroups, (count + Frame::kCountGroup - 1) / Frame::kCountGroup);
     ocl::set_args(f.counts.get(), f.aux, static_cast<cl_uint>(first), static_cast<cl_uint>(count), f.totals);
     ocl::enqueue(device_, f.counts.get(), "trace_counts", groups * Frame::kCountGroup, Frame::kCountGroup);
+    return groups;
+}
+
+// The sums enqueue_counts made (waits for them); means over `pixels`.
+WorkTotals BrickTracer::read_counts(std::size_t groups, std::size_t pixels) {
+    WorkTotals w;
+    w.pixels = pixels;
     std::vector<cl_ulong> sums(3 * groups);
-    f.totals.read_into(std::span(sums));
+    frame_->totals.read_into(std::span(sums));
     for (std::size_t g = 0; g < groups; ++g) {
         w.node_visits += sums[3 * g];
         w.brick_steps += sums[3 * g + 1];
@@ -219,18 +233,19 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
     }
     TraceResult out;
     const std::size_t first = static_cast<std::size_t>(rows.first) * settings.width, count = band * settings.width;
-    out.work = count_work(first, count, pixels);
-    scheduler.resolve();
-    out.trace_ms = scheduler.stage_ms(measure::Stage::trace, -1, first_launch);
-    out.shade_ms = scheduler.stage_ms(measure::Stage::shade, -1, first_launch);
+    // The counters and the digest are enqueued together: the first read waits for both.
+    const std::size_t groups = enqueue_counts(first, count);
     if (outputs.digest) {
         if (count != pixels) throw std::invalid_argument("BrickTracer::render: a digest covers whole images, not bands of rows");
         if (!f.digest) f.digest.emplace(device_);
         f.digest->enqueue(f.hit.get(), {pixels * sizeof(cl_float4), 1, 0, 1});
         f.digest->enqueue(f.aux.get(), {pixels * sizeof(cl_uint2), 1, 0, 1});
-        const std::vector<std::uint64_t> parts = f.digest->read_all();
-        out.digest = Fnv1a64().add_values(std::span<const std::uint64_t>(parts)).hex();
     }
+    out.work = read_counts(groups, pixels);
+    if (outputs.digest) out.digest = image_digest(f.digest->read_all());
+    scheduler.resolve();
+    out.trace_ms = scheduler.stage_ms(measure::Stage::trace, -1, first_launch);
+    out.shade_ms = scheduler.stage_ms(measure::Stage::shade, -1, first_launch);
     if (outputs.image) {
         out.buffer = RenderBuffer(settings.width, settings.height);
         f.hit.read_into(std::span(out.buffer.hit).subspan(first, count), first);

@@ -122,7 +122,8 @@ private:
     struct Kernels;
     struct Frame;  // the buffers kept across calls
     Kernels& kernels(const construct::BuildSettings& b, const TraceSettings& t);
-    WorkTotals count_work(std::size_t first, std::size_t count, std::size_t pixels);
+    std::size_t enqueue_counts(std::size_t first, std::size_t count);
+    WorkTotals read_counts(std::size_t groups, std::size_t pixels);
     ocl::Device& device_;
     std::map<std::string, std::unique_ptr<Kernels>> cache_;
     std::unique_ptr<Frame> frame_;
