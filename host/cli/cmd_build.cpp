@@ -12,7 +12,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "pipeline/report.h"
-#include "pipeline/run.h"
+#include "pipeline/executor.h"
 #include "scene/scene_json.h"
 #include "tune/apply.h"
 
@@ -29,16 +29,17 @@ struct BuildOptions {
     bool reference_levels = false;
 };
 
-// One device's part of the build report.
+// One device's part of the build report: its run of the job (whole, replicate) or its launches and
+// shares of the job (split).
 struct DeviceBuildReport {
     ocl::DeviceInfo device;
-    construct::BuildSettings settings;  // with the tuning applied
-    tune::Applied tuning;
-    pipeline::BuildFigures figures;
+    pipeline::LaneSettings settings;  // with the tuning applied
+    std::optional<pipeline::BuildFigures> figures;
+    std::optional<pipeline::LaneFigures> lane;
 };
 
-// The whole command's report: the scene, the settings as given, every device's figures and whether
-// the devices agree bit for bit.
+// The whole command's report: the scene, the settings as given, the job's figures, every device's
+// part and whether the devices agree bit for bit.
 struct BuildReport {
     std::string file, scene;
     double time = 0.0;
@@ -46,42 +47,43 @@ struct BuildReport {
     construct::BuildSettings settings;  // as given (each device applies its tuning)
     std::optional<std::filesystem::path> tuning_db;
     int repeat = 1, warmup = 0;
+    pipeline::BuildFigures job;
+    nlohmann::json placement;
+    std::string placement_text;
     std::vector<DeviceBuildReport> devices;
     bool devices_agree = true, edit_lists_agree = true;
     std::optional<std::string> json_path;  // where the JSON report was written
 };
 
 nlohmann::json to_json(const DeviceBuildReport& d) {
-    nlohmann::json j = pipeline::to_json(d.figures);
+    nlohmann::json j = d.figures ? pipeline::to_json(*d.figures) : pipeline::to_json(*d.lane);
     j["device"] = d.device.to_json();
-    j["settings"] = settings_json(d.settings);
-    j["tuning"] = d.tuning.record;
+    j["settings"] = settings_json(d.settings.build);
+    j["tuning"] = d.settings.tuning;
     return j;
 }
 
 std::string to_text(const DeviceBuildReport& d, bool kernel_table) {
-    return fmt::format("device {} [{}]\n  {}\n", d.device.index, d.device.name, d.tuning.text) +
-           pipeline::to_text(d.figures, kernel_table);
+    return fmt::format("device {} [{}]\n  {}\n", d.device.index, d.device.name, d.settings.tuning_text) +
+           (d.figures ? pipeline::to_text(*d.figures, kernel_table) : pipeline::to_text(*d.lane, kernel_table));
 }
 
 nlohmann::json to_json(const BuildReport& r) {
     nlohmann::json devices = nlohmann::json::array();
     for (const DeviceBuildReport& d : r.devices) devices.push_back(to_json(d));
-    const nlohmann::json& first = devices.at(0);
-    return {{"command", "build"},
-            {"scene", {{"file", r.file}, {"name", r.scene}, {"time", r.time}, {"geometries", r.geometries}}},
-            {"settings", first["settings"]},
-            {"tuning", first["tuning"]},
-            {"tuning_db", r.tuning_db ? nlohmann::json(r.tuning_db->string()) : nlohmann::json(nullptr)},
-            {"repeat", r.repeat},
-            {"warmup", r.warmup},
-            {"bricks", first["bricks"]},
-            {"digest", first["digest"]},
-            {"stages", first["stages"]},
-            {"memory", first["memory"]},
-            {"devices", devices},
-            {"devices_agree", r.devices_agree},
-            {"edit_lists_agree", r.edit_lists_agree}};
+    nlohmann::json j = pipeline::to_json(r.job);
+    j.update({{"command", "build"},
+              {"scene", {{"file", r.file}, {"name", r.scene}, {"time", r.time}, {"geometries", r.geometries}}},
+              {"settings", devices.at(0)["settings"]},
+              {"tuning", devices.at(0)["tuning"]},
+              {"tuning_db", r.tuning_db ? nlohmann::json(r.tuning_db->string()) : nlohmann::json(nullptr)},
+              {"repeat", r.repeat},
+              {"warmup", r.warmup},
+              {"placement", r.placement},
+              {"devices", devices},
+              {"devices_agree", r.devices_agree},
+              {"edit_lists_agree", r.edit_lists_agree}});
+    return j;
 }
 
 std::string to_text(const BuildReport& r, bool kernel_table) {
@@ -91,53 +93,38 @@ std::string to_text(const BuildReport& r, bool kernel_table) {
                                    r.scene, r.file, r.time, s.leaf_size, s.branching, s.samples,
                                    construct::to_string(s.format), s.cull ? "on" : "off",
                                    s.dependencies ? " with dependencies" : "", s.guard);
+    if (!r.placement_text.empty())
+        text += fmt::format("split over {} devices:\n", r.devices.size()) + pipeline::to_text(r.job, kernel_table) +
+                r.placement_text;
     for (const DeviceBuildReport& d : r.devices) text += to_text(d, kernel_table);
-    if (r.devices.size() > 1)
+    if (r.devices.size() > 1 && r.placement_text.empty())
         text += fmt::format("devices agree bit for bit: bricks and pool {}, edit lists {}\n",
                             r.devices_agree ? "yes" : "NO", r.edit_lists_agree ? "yes" : "NO");
     if (r.json_path) text += fmt::format("report: {}\n", *r.json_path);
     return text;
 }
 
-DeviceBuildReport build_on(ocl::Device& device, const Scene& scene, const BuildOptions& o, const tune::TuningDb* db) {
-    DeviceBuildReport d;
-    d.device = device.info();
-    tune::Resolved r = tune::resolve_settings(o.flags.resolve(), nullptr, db, device.info(), o.flags.given());
-    d.settings = r.build;
-    d.tuning = std::move(r.tuning);
-    pipeline::Runner runner(device);
-    const pipeline::Run run =
-        runner.run(scene, {pipeline::Work::construct, d.settings, {}, o.measure.warmups(), o.measure.repeat, true});
-    d.figures = pipeline::build_figures(run, device.info());
-    if (o.reference_levels) pipeline::add_reference_levels(d.figures.construction, scene, d.settings);
-    return d;
-}
-
-// --devices split: one build shared by the devices.
-void run_build_split(const BuildOptions& o, const GlobalOptions& global, const Scene& scene) {
-    SplitDevices d = open_split_devices(global);
-    const TuningChoice tuning = open_tuning(global);
-    pipeline::SplitSpec spec;
-    spec.work = pipeline::Work::construct;
-    for (ocl::Device* device : d.devices)
-        spec.build.push_back(tune::resolve_settings(o.flags.resolve(), nullptr, tuning.get(), device->info(), o.flags.given()).build);
-    spec.warmup = o.measure.warmups();
-    spec.repeat = o.measure.repeat;
-    spec.rates = &d.rates;
-    const pipeline::SplitRun run = pipeline::run_split(d.devices, scene, spec);
-    nlohmann::json j = pipeline::to_json(run);
-    j["file"] = o.file;
-    j["scene"] = scene.name;
-    if (o.json) write_file_atomic(*o.json, format_json(j));
-    std::fputs((fmt::format("scene {} ({}): construction split over {} devices\n", scene.name, o.file, d.devices.size()) +
-                pipeline::to_text(run) + (o.json ? fmt::format("report: {}\n", *o.json) : ""))
-                   .c_str(),
-               stdout);
+// The report's job, devices and agreement from an execution.
+void add_execution(BuildReport& report, const pipeline::Execution& e, const Scene& scene, const BuildOptions& o) {
+    report.job = pipeline::build_figures(e);
+    if (o.reference_levels) pipeline::add_reference_levels(report.job.construction, scene, e.home_lane().settings.build);
+    report.placement = pipeline::placement_json(e);
+    report.placement_text = pipeline::placement_text(e);
+    for (std::size_t i = 0; i < e.lanes.size(); ++i) {
+        DeviceBuildReport d{e.lanes[i].device, e.lanes[i].settings, {}, {}};
+        if (e.split) {
+            d.lane = pipeline::lane_figures(e, i);
+        } else {
+            d.figures = i == e.home ? report.job : pipeline::build_figures(e.lanes[i].run, d.device);
+            report.devices_agree = report.devices_agree && d.figures->digest == report.job.digest;
+            report.edit_lists_agree = report.edit_lists_agree && d.figures->list_digest == report.job.list_digest;
+        }
+        report.devices.push_back(std::move(d));
+    }
 }
 
 void run_build(const BuildOptions& o, const GlobalOptions& global) {
     apply_global_options(global, true);
-    const pipeline::DeviceMode mode = device_mode(global);
     BuildReport report;
     report.settings = o.flags.resolve();
     if (o.json) check_output_path(*o.json);
@@ -149,17 +136,17 @@ void run_build(const BuildOptions& o, const GlobalOptions& global) {
     report.geometries = scene.geometries.size();
     report.repeat = o.measure.repeat;
     report.warmup = o.measure.warmups();
-    if (mode == pipeline::DeviceMode::split) return run_build_split(o, global, scene);
-    ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
+    const std::unique_ptr<RunDevices> devices = open_run_devices(global);
     const TuningChoice tuning = open_tuning(global);
     report.tuning_db = tuning.path;
-    for (ocl::Device& device : devices) {
-        report.devices.push_back(build_on(device, scene, o, tuning.get()));
-        const pipeline::BuildFigures& first = report.devices.front().figures;
-        const pipeline::BuildFigures& last = report.devices.back().figures;
-        report.devices_agree = report.devices_agree && last.digest == first.digest;
-        report.edit_lists_agree = report.edit_lists_agree && last.list_digest == first.list_digest;
-    }
+    pipeline::Job job;
+    job.work = pipeline::Work::construct;
+    job.settings = tune::settings_for(report.settings, std::nullopt, tuning.get(), o.flags.given());
+    job.warmup = o.measure.warmups();
+    job.repeat = o.measure.repeat;
+    job.image = false;
+    job.rates = devices->rates ? &*devices->rates : nullptr;
+    add_execution(report, devices->executor.run(scene, job, devices->placement), scene, o);
     if (o.json) {
         write_file_atomic(*o.json, format_json(to_json(report)));
         report.json_path = *o.json;

@@ -49,7 +49,7 @@ HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global) {
     const TuningChoice tuning = open_tuning(global);
     h.settings = tune::resolve_settings(o.flags.resolve(), nullptr, tuning.get(), device.info(), o.flags.given()).build;
     h.device = device.info().name;
-    pipeline::Runner runner(device);
+    pipeline::Lane runner(device);
     const pipeline::Run run = runner.run(h.scene, {pipeline::Work::construct, h.settings, {}, 0, 1, false});
     const auto start = std::chrono::steady_clock::now();
     for (const construct::GeometryBuild& b : run.bricks.builds) {

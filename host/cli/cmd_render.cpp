@@ -92,23 +92,24 @@ struct ReferenceFigures {
     std::uint64_t march_steps = 0, hit_pixels = 0, unconverged_pixels = 0, fallback_points = 0, overflow_points = 0;
 };
 
-// A brick render: the settings used, the run's figures and what was checked.
+// A brick render: the run's figures and what was checked.
 struct BrickRender {
-    construct::BuildSettings settings;  // with the tuning applied
-    tune::Applied tuning;
     pipeline::RenderFigures figures;
     std::optional<TreeCheck> tree;                       // several devices
     std::optional<reference::AccuracyMetrics> accuracy;  // --compare
     std::optional<render::SeamMismatches> seams;         // --compare of an adaptive build
 };
 
-// One device's part of the render report.
+// One device's part of the render report: its run of the job (whole, replicate) or its launches and
+// shares of the job (split).
 struct DeviceRenderReport {
     ocl::DeviceInfo device;
-    std::optional<BrickRender> bricks;          // not with --reference
-    std::optional<ReferenceFigures> reference;  // --reference or --compare
-    std::string digest;                         // of the image (hit and aux buffers)
-    std::string difference;                     // from the first device; "" when bit-identical
+    pipeline::LaneSettings settings;              // with the tuning applied
+    std::optional<BrickRender> bricks;            // whole, replicate; not with --reference
+    std::optional<pipeline::LaneFigures> lane;    // split
+    std::optional<ReferenceFigures> reference;    // the lanes that ran the reference tracer
+    std::string digest;                           // of the image (hit and aux buffers)
+    std::string difference;                       // from the first device; "" when bit-identical
 };
 
 // The whole command's report.
@@ -122,6 +123,10 @@ struct RenderReport {
     bool reference = false;
     int repeat = 1, warmup = 0;
     std::optional<std::pair<int, int>> shade_rays;  // shaded mode: shadow and ambient occlusion rays per pixel
+    std::optional<BrickRender> job;                 // the job's render (not with --reference)
+    std::string digest;                             // of the job's image
+    nlohmann::json placement;
+    std::string placement_text;
     std::vector<DeviceRenderReport> devices;
     bool devices_agree = true;
     std::string image;
@@ -152,19 +157,36 @@ std::string accuracy_text(const reference::AccuracyMetrics& a) {
                            : "");
 }
 
+nlohmann::json to_json(const BrickRender& b) {
+    nlohmann::json j = pipeline::to_json(b.figures);
+    if (b.tree) {
+        j["bvh_digest"] = b.tree->digest;
+        j["bvh_valid"] = b.tree->problems.empty();
+    }
+    if (b.accuracy) j["accuracy"] = reference::to_json(*b.accuracy);
+    if (b.seams) j["accuracy"]["seams"] = render::to_json(*b.seams);
+    return j;
+}
+
+std::string to_text(const BrickRender& b, bool kernel_table) {
+    std::string s = pipeline::to_text(b.figures, kernel_table);
+    if (b.tree && !b.tree->problems.empty()) s += "  BVH INVALID: " + b.tree->problems + "\n";
+    if (b.accuracy) s += accuracy_text(*b.accuracy);
+    if (b.seams)
+        s += fmt::format("  hit/miss mismatches within a voxel of a seam between leaf sizes: {} (elsewhere {}; "
+                         "{} leaves on seams)\n",
+                         b.seams->at_seams, b.seams->elsewhere, b.seams->seam_leaves);
+    return s;
+}
+
 nlohmann::json to_json(const DeviceRenderReport& d) {
-    nlohmann::json j = {{"device", d.device.to_json()}, {"digest", d.digest}, {"stages", nlohmann::json::array()}};
-    if (d.bricks) {
-        const BrickRender& b = *d.bricks;
-        j.update(pipeline::to_json(b.figures));
-        j["tuning"] = b.tuning.record;
-        j["settings"] = settings_json(b.settings);
-        if (b.tree) {
-            j["bvh_digest"] = b.tree->digest;
-            j["bvh_valid"] = b.tree->problems.empty();
-        }
-        if (b.accuracy) j["accuracy"] = reference::to_json(*b.accuracy);
-        if (b.seams) j["accuracy"]["seams"] = render::to_json(*b.seams);
+    nlohmann::json j = {{"stages", nlohmann::json::array()}};
+    if (d.bricks) j.update(to_json(*d.bricks));
+    if (d.lane) j.update(pipeline::to_json(*d.lane));
+    j.update({{"device", d.device.to_json()}, {"digest", d.digest}});
+    if (d.bricks || d.lane) {
+        j["tuning"] = d.settings.tuning;
+        j["settings"] = settings_json(d.settings.build);
     }
     if (d.reference) {
         j["stages"].push_back({{"name", "reference"}, {"device_ms", d.reference->device_ms}});
@@ -175,17 +197,9 @@ nlohmann::json to_json(const DeviceRenderReport& d) {
 
 std::string to_text(const DeviceRenderReport& d, bool kernel_table) {
     std::string s = fmt::format("device {} [{}]\n", d.device.index, d.device.name);
-    if (d.bricks) {
-        const BrickRender& b = *d.bricks;
-        s += "  " + b.tuning.text + "\n";
-        s += pipeline::to_text(b.figures, kernel_table);
-        if (b.tree && !b.tree->problems.empty()) s += "  BVH INVALID: " + b.tree->problems + "\n";
-        if (b.accuracy) s += accuracy_text(*b.accuracy);
-        if (b.seams)
-            s += fmt::format("  hit/miss mismatches within a voxel of a seam between leaf sizes: {} (elsewhere {}; "
-                             "{} leaves on seams)\n",
-                             b.seams->at_seams, b.seams->elsewhere, b.seams->seam_leaves);
-    }
+    if (d.bricks || d.lane) s += "  " + d.settings.tuning_text + "\n";
+    if (d.bricks) s += to_text(*d.bricks, kernel_table);
+    if (d.lane) s += pipeline::to_text(*d.lane, kernel_table);
     if (d.reference)
         s += fmt::format("  reference tracer {:.3f} ms ({} hits, {} unconverged)\n", d.reference->device_ms,
                          d.reference->hit_pixels, d.reference->unconverged_pixels);
@@ -211,10 +225,16 @@ nlohmann::json to_json(const RenderReport& r) {
                    {"geometries", r.geometries}}},
         {"settings", settings},
         {"images", images},
+        {"placement", r.placement},
         {"devices", devices},
-        {"devices_agree", r.devices_agree}};
-    for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "digest", "tuning"})
-        if (first.contains(key)) report[key] = first[key];
+        {"devices_agree", r.devices_agree},
+        {"digest", r.digest}};
+    if (r.job) {
+        const nlohmann::json job = to_json(*r.job);
+        for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "wall_ms", "total_ms", "captures"})
+            if (job.contains(key)) report[key] = job[key];
+    }
+    if (first.contains("tuning")) report["tuning"] = first["tuning"];
     return report;
 }
 
@@ -226,12 +246,17 @@ std::string to_text(const RenderReport& r, bool kernel_table) {
                         : fmt::format("method {}, normals {}; bricks {} {}, {}^3 samples, culling {}\n", r.method,
                                       r.normals, s.leaf_size, construct::to_string(s.format), s.samples,
                                       s.cull ? "on" : "off");
+    if (!r.placement_text.empty()) {
+        text += fmt::format("split over {} devices:\n", r.devices.size()) + r.placement_text;
+        if (r.job) text += to_text(*r.job, false);
+    }
     for (const DeviceRenderReport& d : r.devices) {
         text += to_text(d, kernel_table);
         if (!d.difference.empty())
             text += fmt::format("  differs from device {}: {}\n", r.devices.front().device.index, d.difference);
     }
-    if (r.devices.size() > 1) text += fmt::format("devices agree bit for bit: {}\n", r.devices_agree ? "yes" : "NO");
+    if (r.devices.size() > 1 && r.placement_text.empty())
+        text += fmt::format("devices agree bit for bit: {}\n", r.devices_agree ? "yes" : "NO");
     text += fmt::format("image: {}\n", r.image);
     if (r.comparison_images)
         text += fmt::format("reference image: {}, difference image: {}\n", r.comparison_images->first,
@@ -239,15 +264,6 @@ std::string to_text(const RenderReport& r, bool kernel_table) {
     if (r.json_path) text += fmt::format("report: {}\n", *r.json_path);
     return text;
 }
-
-// What one device rendered: its report and the buffers the pictures and the device comparison need.
-struct DeviceRender {
-    DeviceRenderReport report;
-    RenderBuffer buffer;
-    Image shaded;
-    std::optional<RenderBuffer> reference;  // the reference tracer's image
-    std::optional<render::SceneBricks> bricks;  // kept for --compare of an adaptive build (its seams)
-};
 
 TreeCheck check_trees(const render::SceneBricks& bricks) {
     TreeCheck c;
@@ -259,50 +275,6 @@ TreeCheck check_trees(const render::SceneBricks& bricks) {
         if (!p.empty()) c.problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);
     }
     return c;
-}
-
-void render_bricks(ocl::Device& device, const Scene& scene, const RenderOptions& o,
-                   const construct::BuildSettings& base_settings, const tune::TuningDb* tuning_db, bool check_tree,
-                   DeviceRender& r) {
-    BrickRender b;
-    tune::Given given = o.flags.given();
-    given.trace_group = o.trace_group_given;
-    tune::Resolved resolved = tune::resolve_settings(base_settings, &o.trace, tuning_db, device.info(), given);
-    b.settings = resolved.build;
-    b.tuning = std::move(resolved.tuning);
-    const pipeline::RunSpec spec{pipeline::Work::trace, b.settings, resolved.trace, o.measure.warmups(),
-                                 o.measure.repeat};
-    pipeline::Runner runner(device);
-    pipeline::Run run = runner.run(scene, spec);
-    b.figures = pipeline::render_figures(run, spec, device.info());
-    if (check_tree) b.tree = check_trees(run.bricks);
-    r.report.digest = run.trace_digest;
-    r.buffer = std::move(run.trace->buffer);
-    r.shaded = std::move(run.trace->colour);
-    r.report.bricks = std::move(b);
-    if (o.compare && r.report.bricks->settings.adaptive()) r.bricks = std::move(run.bricks);
-}
-
-DeviceRender render_on(ocl::Device& device, const Scene& scene, const RenderOptions& o,
-                       const construct::BuildSettings& settings, const tune::TuningDb* tuning_db, bool check_tree) {
-    DeviceRender r;
-    r.report.device = device.info();
-    if (!o.reference) render_bricks(device, scene, o, settings, tuning_db, check_tree, r);
-    if (o.reference || o.compare) {
-        reference::ReferenceTracer tracer(device);
-        reference::ReferenceResult result = tracer.render(scene, make_camera(scene.camera, o.trace.width, o.trace.height));
-        r.report.reference = reference_figures(result);
-        r.reference = std::move(result.image);
-    }
-    if (o.reference) {
-        r.buffer = *r.reference;
-        r.report.digest = pipeline::buffer_digest(r.buffer);
-    } else if (o.compare) {
-        r.report.bricks->accuracy = reference::compare(r.buffer, *r.reference, r.report.bricks->figures.voxel_world);
-        if (r.bricks)
-            r.report.bricks->seams = render::count_seam_mismatches(scene, *r.bricks, r.buffer, *r.reference);
-    }
-    return r;
 }
 
 // "" when the buffers are bit-identical; else how many pixels differ and the first of them.
@@ -350,6 +322,71 @@ RenderReport report_setup(const RenderOptions& o, const Scene& scene, double tim
     return r;
 }
 
+// The job's image and the reference's, for the pictures.
+struct Images {
+    RenderBuffer buffer;
+    Image shaded;
+    std::optional<RenderBuffer> reference;
+};
+
+// A run's render: its figures, the BVH check (several devices), and with --compare its accuracy
+// against the reference image (and an adaptive build's seams).
+BrickRender brick_render(pipeline::RenderFigures figures, const pipeline::Run& run, const Scene& scene,
+                         const RenderOptions& o, const RenderBuffer* reference, bool check_tree) {
+    BrickRender b{std::move(figures), {}, {}, {}};
+    if (check_tree) b.tree = check_trees(run.bricks);
+    if (o.compare && reference) {
+        b.accuracy = reference::compare(run.trace->buffer, *reference, b.figures.voxel_world);
+        if (run.bricks.settings.adaptive())
+            b.seams = render::count_seam_mismatches(scene, run.bricks, run.trace->buffer, *reference);
+    }
+    return b;
+}
+
+// The report's job and devices, and the images of the job, from an execution.
+Images add_execution(RenderReport& report, pipeline::Execution& e, const Scene& scene, const RenderOptions& o) {
+    Images images;
+    const std::optional<reference::ReferenceResult>& ref = e.home_lane().reference;
+    const bool several = e.lanes.size() > 1 && !e.split;
+    report.placement = pipeline::placement_json(e);
+    report.placement_text = pipeline::placement_text(e);
+    if (!o.reference) {
+        report.job = brick_render(pipeline::render_figures(e), e.job(), scene, o, ref ? &ref->image : nullptr, several);
+        report.digest = e.job().trace_digest;
+    }
+    for (std::size_t i = 0; i < e.lanes.size(); ++i) {
+        pipeline::LaneRun& l = e.lanes[i];
+        DeviceRenderReport d{l.device, l.settings, {}, {}, {}, {}, {}};
+        if (l.reference) d.reference = reference_figures(*l.reference);
+        if (o.reference) {
+            if (l.reference) d.digest = pipeline::buffer_digest(l.reference->image);
+        } else if (e.split) {
+            d.lane = pipeline::lane_figures(e, i);
+            d.digest = report.digest;
+        } else {
+            const pipeline::RunSpec spec{pipeline::Work::trace, l.settings.build, l.settings.trace, e.warmup};
+            d.bricks = i == e.home ? *report.job
+                                   : brick_render(pipeline::render_figures(l.run, spec, l.device), l.run, scene, o,
+                                                  l.reference ? &l.reference->image : nullptr, several);
+            d.digest = l.run.trace_digest;
+        }
+        // A lane with an image of its own (replicate) is compared with the job's.
+        const RenderBuffer* own = o.reference ? (l.reference ? &l.reference->image : nullptr)
+                                              : e.split ? nullptr : &l.run.trace->buffer;
+        if (own && i != e.home) d.difference = difference_text(o.reference ? ref->image : e.job().trace->buffer, *own);
+        report.devices.push_back(std::move(d));
+    }
+    if (o.reference) {
+        report.digest = report.devices.at(e.home).digest;
+        images.buffer = ref->image;
+    } else {
+        images.buffer = std::move(e.job().trace->buffer);
+        images.shaded = std::move(e.job().trace->colour);
+    }
+    if (ref) images.reference = ref->image;
+    return images;
+}
+
 // Bit-identical images and, where checked, identical trees on every device.
 bool devices_agree(const RenderReport& r) {
     const auto tree_digest = [](const DeviceRenderReport& d) {
@@ -360,57 +397,23 @@ bool devices_agree(const RenderReport& r) {
     });
 }
 
-// The picture of the first device's render (and with --compare the reference and difference
-// pictures) as outputs; their paths recorded in the report.
-std::vector<Output> picture_outputs(const RenderOptions& o, const DeviceRender& first, const std::filesystem::path& out,
-                                    RenderReport& report) {
-    std::vector<Output> outputs{image_output(picture(o.mode, first.buffer, first.shaded, out), out)};
+// The picture of the job's render (and with --compare the reference and difference pictures) as
+// outputs; their paths recorded in the report.
+std::vector<Output> picture_outputs(const RenderOptions& o, const Images& images, double voxel_world,
+                                    const std::filesystem::path& out, RenderReport& report) {
+    std::vector<Output> outputs{image_output(picture(o.mode, images.buffer, images.shaded, out), out)};
     report.image = out.string();
     if (!o.compare) return outputs;
     const auto ref_path = with_suffix(out, "-reference");
     const auto diff_path = with_suffix(out, "-difference");
-    outputs.push_back(image_output(picture(o.mode == "depth" ? "depth" : "normals", *first.reference, {}, ref_path), ref_path));
-    outputs.push_back(image_output(
-        reference::difference_image(first.buffer, *first.reference, first.report.bricks->figures.voxel_world), diff_path));
+    outputs.push_back(image_output(picture(o.mode == "depth" ? "depth" : "normals", *images.reference, {}, ref_path), ref_path));
+    outputs.push_back(image_output(reference::difference_image(images.buffer, *images.reference, voxel_world), diff_path));
     report.comparison_images = {ref_path.string(), diff_path.string()};
     return outputs;
 }
 
-// --devices split: one build and trace shared by the devices; the picture of the merged image.
-void run_render_split(const RenderOptions& o, const GlobalOptions& global, const Scene& scene,
-                      const std::filesystem::path& out) {
-    if (o.reference || o.compare) throw InputError("--devices split renders bricks: --reference and --compare need --devices replicate");
-    SplitDevices d = open_split_devices(global);
-    const TuningChoice tuning = open_tuning(global);
-    pipeline::SplitSpec spec;
-    spec.work = pipeline::Work::trace;
-    tune::Given given = o.flags.given();
-    given.trace_group = o.trace_group_given;
-    for (ocl::Device* device : d.devices) {
-        const tune::Resolved r = tune::resolve_settings(o.flags.resolve(), &o.trace, tuning.get(), device->info(), given);
-        spec.build.push_back(r.build);
-        spec.trace.push_back(r.trace);
-    }
-    spec.warmup = o.measure.warmups();
-    spec.repeat = o.measure.repeat;
-    spec.rates = &d.rates;
-    const pipeline::SplitRun run = pipeline::run_split(d.devices, scene, spec);
-    write_image(picture(o.mode, run.trace->buffer, run.trace->colour, out), out);
-    nlohmann::json j = pipeline::to_json(run);
-    j["file"] = o.file;
-    j["scene"] = scene.name;
-    j["picture"] = out.string();
-    if (o.json) write_file_atomic(*o.json, format_json(j));
-    std::fputs((fmt::format("scene {} ({}): render split over {} devices\n", scene.name, o.file, d.devices.size()) +
-                pipeline::to_text(run) + fmt::format("picture: {}\n", out.string()) +
-                (o.json ? fmt::format("report: {}\n", *o.json) : ""))
-                   .c_str(),
-               stdout);
-}
-
 void run_render(RenderOptions o, const GlobalOptions& global) {
     apply_global_options(global, true);
-    const pipeline::DeviceMode mode = device_mode(global);
     const construct::BuildSettings settings = o.flags.resolve();
     if (std::find(std::begin(kModes), std::end(kModes), o.mode) == std::end(kModes))
         throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", o.mode));
@@ -437,24 +440,26 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
         check_output_path(with_suffix(out, "-difference"));
     }
     if (o.json) check_output_path(*o.json);
-    if (mode == pipeline::DeviceMode::split) return run_render_split(o, global, scene, out);
-    ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
+    const std::unique_ptr<RunDevices> devices = open_run_devices(global);
     const TuningChoice tuning = open_tuning(global);
+    tune::Given given = o.flags.given();
+    given.trace_group = o.trace_group_given;
+    pipeline::Job job;
+    job.work = pipeline::Work::trace;
+    job.bricks = !o.reference;
+    job.brick_digests = false;
+    job.reference = o.reference || o.compare;
+    job.settings = tune::settings_for(settings, o.trace, tuning.get(), given);
+    job.warmup = o.measure.warmups();
+    job.repeat = o.measure.repeat;
+    job.rates = devices->rates ? &*devices->rates : nullptr;
+    pipeline::Execution e = devices->executor.run(scene, job, devices->placement);
 
     RenderReport report = report_setup(o, scene, t, settings);
-    std::optional<DeviceRender> first;
-    for (ocl::Device& device : devices) {
-        DeviceRender r = render_on(device, scene, o, settings, tuning.get(), devices.size() > 1);
-        if (first) {
-            r.report.difference = difference_text(first->buffer, r.buffer);
-            report.devices.push_back(std::move(r.report));
-        } else {
-            report.devices.push_back(r.report);
-            first = std::move(r);
-        }
-    }
+    const Images images = add_execution(report, e, scene, o);
     report.devices_agree = devices_agree(report);
-    std::vector<Output> outputs = picture_outputs(o, *first, out, report);
+    std::vector<Output> outputs =
+        picture_outputs(o, images, report.job ? report.job->figures.voxel_world : 0.0, out, report);
     if (o.json) {
         outputs.push_back(text_output(*o.json, format_json(to_json(report))));
         report.json_path = *o.json;

@@ -93,7 +93,7 @@ nlohmann::json tune_device(ocl::Device& device, const Scene& scene, const std::v
     const ocl::DeviceInfo& info = device.info();
     say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
     nlohmann::json report = {{"device", info.to_json()}};
-    pipeline::Runner runner(device);
+    pipeline::Lane runner(device);
     construct::BuildSettings settings = base;
     for (const tune::TunedKernel* k : kernels) {
         if (k->work == pipeline::Work::trace)

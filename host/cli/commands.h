@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <initializer_list>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -11,7 +12,7 @@
 
 #include "cl/device.h"
 #include "core/errors.h"
-#include "pipeline/split.h"
+#include "pipeline/executor.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick::cli {
@@ -46,17 +47,17 @@ void add_setting_flags(const CLI::App* verb, std::initializer_list<std::pair<con
 // "FLAG: message" when that verb has a flag for the setting, else the message as it is.
 std::string setting_error_line(const CLI::App& app, const SettingError& e);
 
-// --devices as the library's mode; throws InputError naming the flag for another value.
-pipeline::DeviceMode device_mode(const GlobalOptions& global);
-
-// The devices of a split run: --device's selection (a device named twice is refused with InputError)
-// and the rate store ($SDFBRICK_RATES, else the default path).
-struct SplitDevices {
+// The devices a verb runs on and how its job is placed on them: --device's selection (a device named
+// twice is refused with InputError), --devices (replicate or split; one device alone is whole unless
+// split is asked for), the executor over them, and for split the rate store ($SDFBRICK_RATES, else
+// the default path).
+struct RunDevices {
     ocl::DeviceSet set;
-    std::vector<ocl::Device*> devices;
-    pipeline::RateStore rates;
+    pipeline::Placement placement;
+    std::optional<pipeline::RateStore> rates;
+    pipeline::Executor executor;
 };
-SplitDevices open_split_devices(const GlobalOptions& global);
+std::unique_ptr<RunDevices> open_run_devices(const GlobalOptions& global);
 
 // A number option's check: refuses nan, inf and values that overflow a double ("1e999").
 const CLI::Validator& finite_number();

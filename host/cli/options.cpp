@@ -1,4 +1,5 @@
 // Options every verb shares, and the table of which flag sets each setting (commands.h).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <map>
@@ -12,6 +13,12 @@
 namespace sdfbrick::cli {
 
 namespace {
+
+pipeline::Placement placement(const GlobalOptions& global) {
+    if (global.devices == "replicate") return pipeline::Placement::replicate;
+    if (global.devices == "split") return pipeline::Placement::split;
+    throw InputError(fmt::format("--devices must be replicate or split, got \"{}\"", global.devices));
+}
 
 // verb -> library setting -> flag
 std::map<const CLI::App*, std::map<std::string, std::string>>& setting_flag_table() {
@@ -42,7 +49,7 @@ std::string setting_error_line(const CLI::App& app, const SettingError& e) {
 
 void apply_global_options(const GlobalOptions& global, bool splits) {
     if (global.kernel_dir) ocl::set_kernel_dir(std::filesystem::path(*global.kernel_dir));
-    if (device_mode(global) == pipeline::DeviceMode::split && !splits)
+    if (placement(global) == pipeline::Placement::split && !splits)
         throw InputError("--devices split: only build and render share one job among devices");
 }
 
@@ -54,16 +61,18 @@ TuningChoice open_tuning(const GlobalOptions& global) {
     return c;
 }
 
-pipeline::DeviceMode device_mode(const GlobalOptions& global) {
-    const auto mode = pipeline::device_mode_from_string(global.devices);
-    if (!mode) throw InputError(fmt::format("--devices must be replicate or split, got \"{}\"", global.devices));
-    return *mode;
+namespace {
+
+std::vector<ocl::Device*> device_pointers(ocl::DeviceSet& set) {
+    std::vector<ocl::Device*> out;
+    for (ocl::Device& d : set) out.push_back(&d);
+    return out;
 }
 
-SplitDevices open_split_devices(const GlobalOptions& global) {
+// A split uses each device once: a device named twice by --device is refused.
+void check_named_once(std::string_view spec) {
     const std::vector<ocl::DeviceInfo> all = ocl::list_devices();
     std::vector<std::size_t> seen;
-    std::string_view spec = global.device;
     while (!spec.empty()) {
         const std::size_t comma = spec.find(',');
         for (std::size_t i : ocl::select_devices(spec.substr(0, comma), all)) {
@@ -74,9 +83,19 @@ SplitDevices open_split_devices(const GlobalOptions& global) {
         }
         spec = comma == std::string_view::npos ? std::string_view{} : spec.substr(comma + 1);
     }
-    SplitDevices s{ocl::DeviceSet::open(global.device), {}, pipeline::RateStore(pipeline::RateStore::default_path())};
-    for (ocl::Device& d : s.set) s.devices.push_back(&d);
-    return s;
+}
+
+}  // namespace
+
+std::unique_ptr<RunDevices> open_run_devices(const GlobalOptions& global) {
+    pipeline::Placement p = placement(global);
+    if (p == pipeline::Placement::split) check_named_once(global.device);
+    ocl::DeviceSet set = ocl::DeviceSet::open(global.device);
+    if (p == pipeline::Placement::replicate && set.size() == 1) p = pipeline::Placement::whole;
+    std::optional<pipeline::RateStore> rates;
+    if (p == pipeline::Placement::split) rates.emplace(pipeline::RateStore::default_path());
+    std::vector<ocl::Device*> devices = device_pointers(set);
+    return std::unique_ptr<RunDevices>(new RunDevices{std::move(set), p, std::move(rates), pipeline::Executor(devices)});
 }
 
 const CLI::Validator& finite_number() {

@@ -294,7 +294,10 @@ public:
             std::uint64_t children = count_and_scan(level);
             subdivide(level, children);
             cull(level, children);
-            if (subtrees_ && (children >= subtrees_->min_bricks || level + 1 == plan_.domain.levels)) {
+            // Adaptive builds split at the coarsest leaf level at the latest: no leaf lies above the
+            // split level, so every leaf belongs to exactly one part, in Morton order within it.
+            if (subtrees_ && (children >= subtrees_->min_bricks || level + 1 == plan_.domain.levels ||
+                              (s_.adaptive() && level >= plan_.coarsest_leaf))) {
                 children = keep_subtrees(children);
                 subtrees_ = nullptr;
             }
@@ -843,8 +846,6 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
                                   const Subtrees* subtrees) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate(device_.info());
-    if (subtrees != nullptr && s.adaptive())  // a split's top levels run on every device: their leaves would repeat
-        throw SettingError("tolerance", "adaptive leaves (a tolerance) cannot be split across devices yet");
     if (g.edits.size() > SDF_MAX_EDITS)
         throw InputError(fmt::format("geometry \"{}\" has {} edits; at most {} are supported", g.name, g.edits.size(),
                                      SDF_MAX_EDITS));

@@ -374,4 +374,71 @@ std::string to_text(const RenderFigures& f, bool kernel_table) {
     return s;
 }
 
+BuildFigures build_figures(const Execution& e) {
+    BuildFigures f = build_figures(e.job(), e.home_lane().device);
+    if (e.split) {
+        f.kernels.clear();
+        f.roofline.clear();
+    }
+    return f;
+}
+
+RenderFigures render_figures(const Execution& e) {
+    const LaneSettings& s = e.home_lane().settings;
+    RenderFigures f = render_figures(e.job(), {Work::trace, s.build, s.trace, e.warmup}, e.home_lane().device);
+    if (e.split) f.kernels.clear();
+    return f;
+}
+
+LaneFigures lane_figures(const Execution& e, std::size_t lane) {
+    const LaneRun& l = e.lanes.at(lane);
+    LaneFigures f;
+    f.stages = l.run.stages;
+    f.total_ms = l.run.total_ms;
+    f.captures = l.run.captures.size();
+    f.kernels = measure::kernel_rows(l.run.captures, l.device);
+    if (e.construct_split) f.construct = e.construct_split->devices.at(lane);
+    if (e.trace_split) f.trace = e.trace_split->devices.at(lane);
+    return f;
+}
+
+namespace {
+
+nlohmann::json share_json(const std::optional<DeviceShare>& d) {
+    if (!d) return nullptr;
+    return {{"planned", d->planned}, {"done", d->done}, {"busy_ms", d->busy_ms}, {"idle_ms", d->idle_ms},
+            {"kernels_ms", d->kernels_ms}, {"copies_ms", d->copies_ms}, {"copied_bytes", d->copied_bytes},
+            {"rate", d->rate}};
+}
+
+}  // namespace
+
+nlohmann::json to_json(const LaneFigures& f) {
+    return {{"stages", measure::to_json(f.stages)}, {"total_ms", measure::to_json(f.total_ms)},
+            {"captures", f.captures}, {"kernels", measure::to_json(f.kernels)},
+            {"construct_share", share_json(f.construct)}, {"trace_share", share_json(f.trace)}};
+}
+
+std::string to_text(const LaneFigures& f, bool kernel_table) {
+    std::string s = fmt::format("  its launches: device {:.3f} ms a capture over {} captures\n", f.total_ms.median,
+                                f.captures);
+    if (f.captures > 1) s += measure::stage_table_text(f.stages, true);
+    if (kernel_table) s += measure::kernel_table_text(f.kernels);
+    return s;
+}
+
+nlohmann::json placement_json(const Execution& e) {
+    nlohmann::json j = {{"placement", to_string(e.placement)}, {"home", e.home_lane().device.index}};
+    if (e.construct_split) j["construct"] = to_json(*e.construct_split);
+    if (e.trace_split) j["trace"] = to_json(*e.trace_split);
+    return j;
+}
+
+std::string placement_text(const Execution& e) {
+    std::string s;
+    if (e.construct_split) s += to_text(*e.construct_split);
+    if (e.trace_split) s += to_text(*e.trace_split);
+    return s;
+}
+
 }  // namespace sdfbrick::pipeline

@@ -19,6 +19,7 @@
 #include "construct/brick_builder.h"
 #include "measure/peaks.h"
 #include "measure/statistics.h"
+#include "pipeline/executor.h"
 #include "pipeline/run.h"
 #include "render/pictures.h"
 
@@ -151,6 +152,30 @@ nlohmann::json to_json(const RenderFigures& f);
 // The build/bvh/trace line, one "warning:" line per warning, the stage table (several captures) and
 // the kernel table (kernel_table).
 std::string to_text(const RenderFigures& f, bool kernel_table);
+
+// The job's figures of an execution, on its home lane's device. A split's launches run on several
+// devices: its kernel table and roofline are per lane (LaneFigures), and left empty here.
+BuildFigures build_figures(const Execution& e);
+RenderFigures render_figures(const Execution& e);
+
+// One lane of a split job: its own launches over the captures and its share of each stage.
+struct LaneFigures {
+    std::vector<measure::StageStats> stages;
+    measure::Spread total_ms;  // device time of its launches, per capture
+    std::size_t captures = 0;
+    std::vector<measure::KernelRow> kernels;
+    std::optional<DeviceShare> construct, trace;  // its share of the last capture's stages
+};
+LaneFigures lane_figures(const Execution& e, std::size_t lane);
+// {"stages", "total_ms", "captures", "kernels", "construct_share", "trace_share"}
+nlohmann::json to_json(const LaneFigures& f);
+std::string to_text(const LaneFigures& f, bool kernel_table);
+
+// A report's placement section: {"placement", "home" (the device index holding the job's bricks),
+// "construct" and "trace" (split: each stage's shares, StageSplit)}.
+nlohmann::json placement_json(const Execution& e);
+// The split's stage lines ("" for other placements).
+std::string placement_text(const Execution& e);
 
 // "12.5 KiB", "3.00 MiB", ...
 std::string bytes_text(std::uint64_t bytes);

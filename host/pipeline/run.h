@@ -1,8 +1,9 @@
-// The run loop: the one place where measured work runs. A pass is construction (every geometry of
-// the scene), optionally the BVH, optionally the trace; a run is `warmup` uncaptured passes and then
+// A lane: one device's state kept from pass to pass (its builders, tracer and digest programs, its
+// pooled memory, its image), and the run loop on it. A pass is construction (every geometry of the
+// scene), optionally the BVH, optionally the trace; a run is `warmup` uncaptured passes and then
 // `repeat` captured ones. Each pass has one launch recorder (measure::Scheduler) that the brick
-// builder, the BVH builder and the tracer record into; its launches are the pass's capture. Every
-// verb, the tuner and the sweep run through a Runner (docs/design.md, "The run loop").
+// builder, the BVH builder and the tracer record into; its launches are the pass's capture. The
+// executor (pipeline/executor.h) places a job's work on lanes (docs/design.md, "The executor").
 #pragma once
 
 #include <optional>
@@ -12,6 +13,7 @@
 #include "bvh/bvh_builder.h"
 #include "construct/brick_builder.h"
 #include "measure/statistics.h"
+#include "reference/device_tracer.h"
 #include "render/brick_tracer.h"
 
 namespace sdfbrick::pipeline {
@@ -49,20 +51,23 @@ struct Run {
     bool identical = true;  // every capture gave the same brick count, digests and traced image
 };
 
-class Runner {
+class Lane {
 public:
-    explicit Runner(ocl::Device& device);
-    ~Runner();
+    explicit Lane(ocl::Device& device);
+    ~Lane();
+    Lane(const Lane&) = delete;
+    Lane& operator=(const Lane&) = delete;
     ocl::Device& device() { return builder_.device(); }
     construct::BrickBuilder& builder() { return builder_; }
     bvh::BvhBuilder& bvh() { return bvh_; }
     render::BrickTracer& tracer() { return tracer_; }
-    ocl::DeviceDigest& digest();  // made on first use
+    ocl::DeviceDigest& digest();                 // made on first use
+    reference::ReferenceTracer& reference();    // made on first use
 
     // Throws InputError for settings the device refuses, std::invalid_argument for warmup < 0 or
     // repeat < 1.
     Run run(const Scene& scene, const RunSpec& spec);
-    // The same loop over trace passes only, through bricks this runner's device built (spec.work and
+    // The same loop over trace passes only, through bricks this lane's device built (spec.work and
     // spec.build are not used): the trace tuner measures work-group shapes without rebuilding.
     Run trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec);
 
@@ -71,6 +76,7 @@ private:
     bvh::BvhBuilder bvh_;
     render::BrickTracer tracer_;
     std::optional<ocl::DeviceDigest> digest_;  // the brick digests' program and scratch, made on first use
+    std::optional<reference::ReferenceTracer> reference_;
 };
 
 using render::buffer_digest;

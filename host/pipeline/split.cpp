@@ -17,17 +17,10 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/hash.h"
+#include "pipeline/passes.h"
 #include "scene/to_device.h"
 
 namespace sdfbrick::pipeline {
-
-std::string_view to_string(DeviceMode m) { return m == DeviceMode::split ? "split" : "replicate"; }
-
-std::optional<DeviceMode> device_mode_from_string(std::string_view s) {
-    if (s == "replicate") return DeviceMode::replicate;
-    if (s == "split") return DeviceMode::split;
-    return std::nullopt;
-}
 
 // ---- the rate store ----
 
@@ -110,43 +103,12 @@ std::string to_text(const StageSplit& s) {
     return text;
 }
 
-nlohmann::json to_json(const SplitRun& r) {
-    nlohmann::json j{{"bricks", r.leaf_count}, {"brick_digest", r.brick_digest}, {"list_digest", r.list_digest},
-                     {"construct", to_json(r.construct)}, {"identical", r.identical}};
-    j["construct"]["captures"] = measure::to_json(r.construct_ms);
-    if (r.trace) {
-        j["trace_digest"] = r.trace_digest;
-        j["trace"] = to_json(r.tracing);
-        j["trace"]["captures"] = measure::to_json(r.trace_ms);
-    }
-    return j;
-}
-
-namespace {
-
-std::string captures_text(const char* stage, const measure::Spread& s) {
-    if (s.samples.size() < 2) return "";
-    return fmt::format("{} wall over {} captures: median {:.3f} ms, min {:.3f}, max {:.3f}, cv {:.2f}%\n", stage,
-                       s.samples.size(), s.median, s.min, s.max, 100.0 * s.cv);
-}
-
-}  // namespace
-
-std::string to_text(const SplitRun& r) {
-    std::string text = fmt::format("bricks {}  digest {}  edit lists {}\n", r.leaf_count, r.brick_digest, r.list_digest);
-    text += to_text(r.construct) + captures_text("construct", r.construct_ms);
-    if (r.trace) text += fmt::format("image digest {}\n", r.trace_digest) + to_text(r.tracing) + captures_text("trace", r.trace_ms);
-    if (!r.identical) text += "CAPTURES DIFFER: the passes gave different digests\n";
-    return text;
-}
-
 // ---- the split run ----
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+using detail::Clock;
+using detail::ms_since;
 
 // The split level: the first with at least this many bricks (or the leaf level).
 constexpr std::uint64_t kSplitBricks = 256;
@@ -179,19 +141,20 @@ struct HostBuild {
     std::vector<cl_uint> lists;
     std::vector<std::uint8_t> pool;
     std::vector<SdfBounds> aabbs;
+    std::vector<cl_uint> shifts;
 
     std::uint64_t bytes() const {
-        return sizeof(SdfBrick) * leaves.size() + sizeof(cl_uint) * lists.size() + pool.size() +
+        return sizeof(SdfBrick) * leaves.size() + sizeof(cl_uint) * (lists.size() + shifts.size()) + pool.size() +
                sizeof(SdfBounds) * aabbs.size();
     }
 };
 
 // One device in the run: its builders (made on first use, so that a failing program build is its
 // failure) and, for tracing, its copy of the merged bricks.
-struct Lane {
+struct SplitLane {
     ocl::Device* device = nullptr;
     std::size_t slot = 0;  // index into the spec's per-device settings
-    std::unique_ptr<Runner> tools;
+    std::unique_ptr<Lane>* slots = nullptr;  // the executor's lane of this device, made on first use
     std::optional<render::SceneBricks> traced;
     std::string failure;
     std::exception_ptr error;
@@ -208,7 +171,7 @@ struct Lane {
     template <class Fn>
     auto copy(std::uint64_t bytes, Fn&& fn) {
         struct Count {
-            Lane& lane;
+            SplitLane& lane;
             std::uint64_t bytes;
             Clock::time_point t0 = Clock::now();
             ~Count() {
@@ -220,6 +183,17 @@ struct Lane {
     }
 
     bool alive() const { return failure.empty(); }
+    Lane& tools() {
+        if (!*slots) *slots = std::make_unique<Lane>(*device);
+        return **slots;
+    }
+    // A part's launches, once it finished: its device time, and into this pass's capture of the lane.
+    void record(measure::Scheduler& scheduler) {
+        const measure::Capture& launches = scheduler.resolve();
+        kernels_ms += scheduler.total_ms();
+        capture.insert(capture.end(), launches.begin(), launches.end());
+    }
+    measure::Capture capture;  // this pass's launches on the lane (the parts that finished)
 };
 
 // A part's result with the fraction it covers.
@@ -230,11 +204,11 @@ struct Part {
     std::size_t lane = 0;  // which lane made it
 };
 
-[[noreturn]] void throw_all_failed(const std::vector<Lane>& lanes) {
+[[noreturn]] void throw_all_failed(const std::vector<SplitLane>& lanes) {
     bool all_input = true;
     std::string what;
     std::exception_ptr first;
-    for (const Lane& l : lanes) {
+    for (const SplitLane& l : lanes) {
         if (!l.error) continue;
         if (!first) first = l.error;
         try {
@@ -259,7 +233,7 @@ constexpr double kMinShare = 0.10;
 constexpr double kMinPart = 1.0 / 64;
 
 // Splits iv among the live lanes in proportion to their weights.
-std::vector<std::pair<std::size_t, Interval>> divide(Interval iv, const std::vector<Lane>& lanes,
+std::vector<std::pair<std::size_t, Interval>> divide(Interval iv, const std::vector<SplitLane>& lanes,
                                                      const std::vector<double>& weights) {
     std::vector<std::size_t> live;
     double all = 0.0, best = 0.0;
@@ -292,7 +266,7 @@ bool out_of_memory(const std::exception& e) {
 
 // A lane's part iv threw e: a lane out of memory takes parts of at most half the width from now on
 // (down to kMinPart), any other failure takes the lane out of the run.
-void could_not_run(Lane& lane, DeviceShare& share, Interval iv, const std::exception& e) {
+void could_not_run(SplitLane& lane, DeviceShare& share, Interval iv, const std::exception& e) {
     if (out_of_memory(e) && iv.width() / 2 >= kMinPart) {
         lane.cap = iv.width() / 2;
         share.limit = fmt::format("could not hold {:.1f}% of the stage ({}); parts of at most {:.1f}% since",
@@ -309,20 +283,20 @@ void could_not_run(Lane& lane, DeviceShare& share, Interval iv, const std::excep
 // interval) does one part. A lane whose part throws leaves the run; what it had not done is divided
 // among the lanes left, until everything is done. Returns the parts in order of their fractions.
 template <class Result, class Fn>
-std::vector<Part<Result>> run_shared(std::vector<Lane>& lanes, const std::vector<double>& weights, StageSplit& report,
+std::vector<Part<Result>> run_shared(std::vector<SplitLane>& lanes, const std::vector<double>& weights, StageSplit& report,
                                      Fn&& fn) {
     const auto start = Clock::now();
     std::vector<Part<Result>> done;
     std::vector<Interval> pending{{0.0, 1.0}};
     std::vector<double> last_end(lanes.size(), 0.0);
-    for (Lane& l : lanes) {
+    for (SplitLane& l : lanes) {
         l.cap = 1.0;  // what a device could not hold in another stage may fit in this one
         l.kernels_ms = l.copies_ms = 0.0;
         l.copied_bytes = 0;
     }
     bool first_round = true;
     while (!pending.empty()) {
-        if (std::none_of(lanes.begin(), lanes.end(), [](const Lane& l) { return l.alive(); })) throw_all_failed(lanes);
+        if (std::none_of(lanes.begin(), lanes.end(), [](const SplitLane& l) { return l.alive(); })) throw_all_failed(lanes);
         std::vector<std::vector<Interval>> assigned(lanes.size()), lost(lanes.size());
         for (const Interval& iv : pending)
             for (const auto& [lane, part] : divide(iv, lanes, weights)) {
@@ -392,9 +366,9 @@ double static_estimate(const ocl::DeviceInfo& d) {
 
 // The stage's weights per lane: measured rates when the store has one for every device, else
 // compute units x clock.
-std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStore* rates, StageSplit& report) {
+std::vector<double> stage_weights(const std::vector<SplitLane>& lanes, const RateStore* rates, StageSplit& report) {
     std::vector<double> w;
-    for (const Lane& l : lanes) {
+    for (const SplitLane& l : lanes) {
         const std::optional<double> r =
             rates ? rates->rate(l.device->info(), report.workload, report.stage) : std::nullopt;
         if (!r) break;
@@ -404,15 +378,15 @@ std::vector<double> stage_weights(const std::vector<Lane>& lanes, const RateStor
     if (w.size() == lanes.size()) return w;
     report.basis = kStaticBasis;
     w.clear();
-    for (const Lane& l : lanes) w.push_back(static_estimate(l.device->info()));
+    for (const SplitLane& l : lanes) w.push_back(static_estimate(l.device->info()));
     return w;
 }
 
-StageSplit start_report(const std::vector<Lane>& lanes, std::string stage, const Scene& scene, const SplitSpec& spec) {
+StageSplit start_report(const std::vector<SplitLane>& lanes, std::string stage, const Scene& scene, const SplitSpec& spec) {
     StageSplit r;
     r.stage = std::move(stage);
     r.workload = fmt::format("{} at {}", scene.name, spec.build.front().leaf_size);
-    for (const Lane& l : lanes) {
+    for (const SplitLane& l : lanes) {
         DeviceShare d;
         d.device = l.device->info().index;
         d.name = l.device->info().name;
@@ -421,7 +395,7 @@ StageSplit start_report(const std::vector<Lane>& lanes, std::string stage, const
     return r;
 }
 
-void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lanes) {
+void finish_report(StageSplit& r, RateStore* rates, const std::vector<SplitLane>& lanes) {
     for (std::size_t i = 0; i < lanes.size(); ++i) {
         DeviceShare& d = r.devices[i];
         if (d.done <= 0.0 || d.busy_ms <= 0.0) continue;
@@ -435,7 +409,7 @@ void finish_report(StageSplit& r, RateStore* rates, const std::vector<Lane>& lan
 // One geometry's part (or merged whole) on the host.
 
 // Reads b's arrays back into h's (memory from an earlier pass, or none), as copies of lane's.
-HostBuild to_host(const construct::GeometryBuild& b, Lane& lane, HostBuild h) {
+HostBuild to_host(const construct::GeometryBuild& b, SplitLane& lane, HostBuild h) {
     const auto read = [&](const auto& buffer, auto& out) {
         out.resize(buffer.size());
         lane.copy(buffer.bytes(), [&] { buffer.read_into(std::span(out)); });
@@ -444,6 +418,7 @@ HostBuild to_host(const construct::GeometryBuild& b, Lane& lane, HostBuild h) {
     read(*b.leaf_edit_indices, h.lists);
     read(*b.pool, h.pool);
     read(*b.aabbs, h.aabbs);
+    read(*b.shifts, h.shifts);
     h.meta = b.info();
     return h;
 }
@@ -456,7 +431,7 @@ struct BuiltPart {
 };
 
 // Builds the part iv of every geometry on lane's device.
-BuiltPart build_part(Lane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
+BuiltPart build_part(SplitLane& lane, const Scene& scene, const construct::BuildSettings& s, Interval iv) {
     BuiltPart out;
     const bool whole = iv.f0 == 0.0 && iv.f1 == 1.0;
     if (whole) out.resident.emplace();
@@ -473,7 +448,7 @@ BuiltPart build_part(Lane& lane, const Scene& scene, const construct::BuildSetti
             total = prefix.back();
             return range;
         }};
-        construct::GeometryBuild b = lane.tools->builder().build(g, s, scheduler, &subtrees);
+        construct::GeometryBuild b = lane.tools().builder().build(g, s, scheduler, &subtrees);
         HostBuild h;
         if (whole) {
             out.resident->push_back(std::move(b));
@@ -485,7 +460,7 @@ BuiltPart build_part(Lane& lane, const Scene& scene, const construct::BuildSetti
         h.total_weight = total;
         out.host.push_back(std::move(h));
     }
-    lane.kernels_ms += scheduler.total_ms();
+    lane.record(scheduler);
     return out;
 }
 
@@ -507,6 +482,7 @@ construct::LevelReport merged_level(const std::vector<const HostBuild*>& parts, 
         r.scan_ms += q.scan_ms;
         r.subdivide_ms += q.subdivide_ms;
         r.cull_ms += q.cull_ms;
+        r.leaves += q.leaves;
     }
     return r;
 }
@@ -525,6 +501,7 @@ HostBuild merge(const std::vector<const HostBuild*>& parts) {
     m.meta.work.clear();
     m.meta.memory.clear();
     m.meta.device_ms = m.meta.host_ms = 0.0;
+    m.meta.check_error_max = m.meta.check_error_p99 = 0.0;
     m.meta.first_launch = m.meta.end_launch = 0;  // the parts' launches are in their lanes' recorders
     m.split_level = parts.front()->split_level;
     std::size_t levels = 0;
@@ -540,10 +517,15 @@ HostBuild merge(const std::vector<const HostBuild*>& parts) {
         m.lists.insert(m.lists.end(), p->lists.begin(), p->lists.end());
         m.pool.insert(m.pool.end(), p->pool.begin(), p->pool.end());
         m.aabbs.insert(m.aabbs.end(), p->aabbs.begin(), p->aabbs.end());
+        m.shifts.insert(m.shifts.end(), p->shifts.begin(), p->shifts.end());
         m.meta.leaf_count += p->meta.leaf_count;
         entries += p->meta.edits_per_leaf_mean * static_cast<double>(p->meta.leaf_count);
         m.meta.edits_per_leaf_max = std::max(m.meta.edits_per_leaf_max, p->meta.edits_per_leaf_max);
         m.meta.edit_evaluations += p->meta.edit_evaluations;
+        // The check's worst error is the parts' worst; its 99th percentile is bounded by the parts'
+        // largest (the per-leaf errors stay on the devices).
+        m.meta.check_error_max = std::max(m.meta.check_error_max, p->meta.check_error_max);
+        m.meta.check_error_p99 = std::max(m.meta.check_error_p99, p->meta.check_error_p99);
         m.meta.device_ms += p->meta.device_ms;
         m.meta.host_ms = std::max(m.meta.host_ms, p->meta.host_ms);
         for (const auto& [what, bytes] : p->meta.memory) m.meta.memory[what] += bytes;
@@ -566,9 +548,7 @@ construct::GeometryBuild upload(const HostBuild& h, ocl::Device& d) {
     b.leaf_edit_indices = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(h.lists));
     b.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(d, std::span<const std::uint8_t>(h.pool));
     b.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(d, std::span<const SdfBounds>(h.aabbs));
-    // Split builds are uniform (adaptive ones refuse a split): every leaf has the finest voxel.
-    const std::vector<cl_uint> shifts(h.leaves.size(), 0u);
-    b.shifts = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(shifts));
+    b.shifts = std::make_unique<ocl::Buffer<cl_uint>>(d, std::span<const cl_uint>(h.shifts));
     return b;
 }
 
@@ -598,10 +578,10 @@ struct Merged {
 
 // The merged arrays on the host: the host merge, or the resident build read back once (its copies
 // counted on the lane that reads).
-const std::vector<HostBuild>& host_copy(Merged& m, std::vector<Lane>& lanes) {
+const std::vector<HostBuild>& host_copy(Merged& m, std::vector<SplitLane>& lanes) {
     std::lock_guard lock(m.mutex);
     if (!m.host_ready) {
-        Lane& home = lanes[*m.lane];
+        SplitLane& home = lanes[*m.lane];
         m.host.clear();
         for (const construct::GeometryBuild& b : m.resident.builds) m.host.push_back(to_host(b, home, {}));
         m.host_ready = true;
@@ -610,12 +590,11 @@ const std::vector<HostBuild>& host_copy(Merged& m, std::vector<Lane>& lanes) {
 }
 
 // The split construction: every geometry's parts, merged on the host unless one lane built all.
-void split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis,
+void split_construct(std::vector<SplitLane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis,
                      StageSplit& report, Merged& merged) {
     report = start_report(lanes, "construct", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
-    auto parts = run_shared<BuiltPart>(lanes, weights, report, [&](Lane& lane, Interval iv) {
-        if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
+    auto parts = run_shared<BuiltPart>(lanes, weights, report, [&](SplitLane& lane, Interval iv) {
         return build_part(lane, scene, spec.build[lane.slot], iv);
     });
     for (std::size_t g = 0; g < scene.geometries.size(); ++g)
@@ -644,13 +623,13 @@ void split_construct(std::vector<Lane>& lanes, const Scene& scene, const SplitSp
 
 // The lane's own copy of the merged bricks, ready to trace. Every band needs all of it, so a device
 // that cannot hold it leaves the run instead of taking smaller bands.
-render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vector<HostBuild>& merged,
+render::SceneBricks traced_copy(SplitLane& lane, const Scene& scene, const std::vector<HostBuild>& merged,
                                 const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
     try {
         std::uint64_t bytes = 0;
-        for (const HostBuild& h : merged) bytes += h.bytes() + sizeof(cl_uint) * h.leaves.size();  // + the shifts
+        for (const HostBuild& h : merged) bytes += h.bytes();
         render::SceneBricks b = lane.copy(bytes, [&] { return upload_scene(merged, settings, *lane.device); });
-        render::prepare_tracing(lane.tools->bvh(), scene, b, scheduler);
+        render::prepare_tracing(lane.tools().bvh(), scene, b, scheduler);
         return b;
     } catch (const std::exception& e) {
         if (!out_of_memory(e)) throw;
@@ -661,7 +640,7 @@ render::SceneBricks traced_copy(Lane& lane, const Scene& scene, const std::vecto
 // The split trace: bands of rows (in units of every device's work-group rows), merged into one image.
 // A lane that traces every row keeps the image on its device: its digest is computed there and the
 // image crosses only when `image` asks for it. Bands are read back and merged on the host.
-render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Merged& merged, const SplitSpec& spec,
+render::TraceResult split_trace(std::vector<SplitLane>& lanes, const Scene& scene, Merged& merged, const SplitSpec& spec,
                                 const RateStore* basis, StageSplit& report, bool image) {
     report = start_report(lanes, "trace", scene, spec);
     const std::vector<double> weights = stage_weights(lanes, basis, report);
@@ -675,12 +654,11 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Me
     for (int r = 0; r < first.height; r += unit) prefix.push_back(static_cast<std::uint64_t>(r));
     prefix.push_back(static_cast<std::uint64_t>(first.height));
     const SdfCamera camera = make_camera(scene.camera, first.width, first.height);
-    auto parts = run_shared<render::TraceResult>(lanes, weights, report, [&](Lane& lane, Interval iv) {
-        if (!lane.tools) lane.tools = std::make_unique<Runner>(*lane.device);
+    auto parts = run_shared<render::TraceResult>(lanes, weights, report, [&](SplitLane& lane, Interval iv) {
         measure::Scheduler scheduler(*lane.device);
         const bool home = merged.lane == lane.slot;
         if (home && !merged.prepared) {  // the lane that holds the construction traces it where it is
-            render::prepare_tracing(lane.tools->bvh(), scene, merged.resident, scheduler);
+            render::prepare_tracing(lane.tools().bvh(), scene, merged.resident, scheduler);
             merged.prepared = true;
         }
         if (!home && !lane.traced)
@@ -689,9 +667,9 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Me
         const render::Rows rows{static_cast<int>(prefix[a]), static_cast<int>(prefix[b])};
         const bool whole = iv.f0 == 0.0 && iv.f1 == 1.0;
         render::TraceResult r =
-            lane.tools->tracer().render(scene, home ? merged.resident : *lane.traced, camera, spec.trace[lane.slot],
+            lane.tools().tracer().render(scene, home ? merged.resident : *lane.traced, camera, spec.trace[lane.slot],
                                         scheduler, rows, {!whole || image, whole && spec.trace_digests});
-        lane.kernels_ms += scheduler.total_ms();
+        lane.record(scheduler);
         return r;
     });
     report.work = static_cast<double>(first.width) * first.height;
@@ -721,18 +699,28 @@ render::TraceResult split_trace(std::vector<Lane>& lanes, const Scene& scene, Me
 }
 
 // The merged bricks on the first live device that takes them (for digests and what follows): where
-// they are when one lane holds the construction.
-render::SceneBricks home_bricks(std::vector<Lane>& lanes, Merged& merged, const SplitSpec& spec, Lane*& home) {
+// they are when one lane holds the construction. The BVH and tracing arrays are made for them when
+// the work needs them and the lane has not made them.
+render::SceneBricks home_bricks(std::vector<SplitLane>& lanes, Merged& merged, const Scene& scene,
+                                const SplitSpec& spec, std::size_t& home, double& bvh_wall) {
+    const auto prepare = [&](SplitLane& l, render::SceneBricks b, bool prepared) {
+        if (spec.work != Work::construct && !prepared) {
+            measure::Scheduler scheduler(*l.device);
+            detail::timed(bvh_wall, [&] { render::prepare_tracing(l.tools().bvh(), scene, b, scheduler); });
+            l.record(scheduler);
+        }
+        return b;
+    };
     if (merged.lane && lanes[*merged.lane].alive()) {
-        home = &lanes[*merged.lane];
-        return std::move(merged.resident);
+        home = *merged.lane;
+        return prepare(lanes[home], std::move(merged.resident), merged.prepared);
     }
-    for (Lane& l : lanes) {
+    for (SplitLane& l : lanes) {
         if (!l.alive()) continue;
-        home = &l;
+        home = l.slot;
         if (l.traced) return std::move(*l.traced);
         try {
-            return upload_scene(host_copy(merged, lanes), spec.build[l.slot], *l.device);
+            return prepare(l, upload_scene(host_copy(merged, lanes), spec.build[l.slot], *l.device), false);
         } catch (const std::exception& e) {
             l.failure = e.what();
             l.error = std::current_exception();
@@ -741,60 +729,69 @@ render::SceneBricks home_bricks(std::vector<Lane>& lanes, Merged& merged, const 
     throw_all_failed(lanes);
 }
 
-SplitRun split_pass(std::vector<Lane>& lanes, const Scene& scene, const SplitSpec& spec, const RateStore* basis,
-                    bool last) {
-    SplitRun out;
+// One pass: the construction split, the trace split (Work::trace), the merged bricks on their home
+// lane, digests there. The pass's capture is every lane's launches, lane by lane.
+detail::Pass split_pass(std::vector<SplitLane>& lanes, const Scene& scene, const SplitSpec& spec,
+                        const RateStore* basis, bool last, SplitRun& out) {
+    detail::Pass p;
     Merged merged;
-    split_construct(lanes, scene, spec, basis, out.construct, merged);
+    for (SplitLane& l : lanes) l.capture.clear();
+    detail::timed(p.construct_wall, [&] { split_construct(lanes, scene, spec, basis, out.construct, merged); });
     if (spec.work == Work::trace) {
-        for (Lane& l : lanes) l.traced.reset();
-        out.trace = split_trace(lanes, scene, merged, spec, basis, out.tracing, spec.image && last);
-        out.trace_digest = out.trace->digest;
+        for (SplitLane& l : lanes) l.traced.reset();
+        p.trace = detail::timed(p.trace_wall, [&] {
+            return split_trace(lanes, scene, merged, spec, basis, out.tracing, spec.image && last);
+        });
+        p.trace_digest = p.trace->digest;
     }
-    Lane* home = nullptr;
-    out.bricks = home_bricks(lanes, merged, spec, home);
-    out.leaf_count = out.bricks.bricks;
+    p.bricks = home_bricks(lanes, merged, scene, spec, out.home, p.bvh_wall);
     if (spec.brick_digests) {
-        if (!home->tools) home->tools = std::make_unique<Runner>(*home->device);
-        BrickDigests d = brick_digests(out.bricks, home->tools->digest());
-        out.brick_digest = std::move(d.bricks);
-        out.list_digest = std::move(d.lists);
+        BrickDigests d = detail::timed(p.digest_wall, [&] { return brick_digests(p.bricks, lanes[out.home].tools().digest()); });
+        p.brick_digest = std::move(d.bricks);
+        p.list_digest = std::move(d.lists);
     }
-    return out;
+    for (SplitLane& l : lanes) {
+        p.capture.insert(p.capture.end(), l.capture.begin(), l.capture.end());
+        if (*l.slots) l.device->memory_pool()->trim();
+    }
+    return p;
+}
+
+// A lane's own figures over the captured passes: its launches (no bricks or image of its own).
+Run lane_run(std::vector<measure::Capture> captures) {
+    Run r;
+    r.captures = std::move(captures);
+    r.stages = measure::stage_stats(r.captures);
+    r.total_ms = measure::total_stats(r.captures);
+    return r;
 }
 
 }  // namespace
 
-SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene, const SplitSpec& spec) {
-    if (devices.empty()) throw std::invalid_argument("run_split: no device");
+SplitRun run_split(std::vector<std::unique_ptr<Lane>>& slots, const std::vector<ocl::Device*>& devices,
+                   const Scene& scene, const SplitSpec& spec) {
+    if (devices.empty() || slots.size() != devices.size()) throw std::invalid_argument("run_split: one lane per device");
     if (spec.build.size() != devices.size() || (spec.work == Work::trace && spec.trace.size() != devices.size()))
         throw std::invalid_argument("run_split: one build (and trace) setting per device");
-    if (spec.warmup < 0 || spec.repeat < 1) throw std::invalid_argument("run_split: warmup >= 0, repeat >= 1");
-    if (spec.work == Work::bvh) throw std::invalid_argument("run_split: construct or trace");
-    std::vector<Lane> lanes(devices.size());
+    std::vector<SplitLane> lanes(devices.size());
     for (std::size_t i = 0; i < devices.size(); ++i) {
         lanes[i].device = devices[i];
         lanes[i].slot = i;
+        lanes[i].slots = &slots[i];
     }
     // Every pass splits by the rates stored before the run: a warm-up pass's rates include program
     // builds. The last pass's rates are stored.
     const std::optional<RateStore> basis = spec.rates ? std::optional<RateStore>(*spec.rates) : std::nullopt;
     SplitRun out;
-    std::vector<double> construct_ms, trace_ms;
-    bool identical = true;
-    for (int pass = 0; pass < spec.warmup + spec.repeat; ++pass) {
-        SplitRun run = split_pass(lanes, scene, spec, basis ? &*basis : nullptr, pass + 1 == spec.warmup + spec.repeat);
-        if (pass < spec.warmup) continue;
-        construct_ms.push_back(run.construct.wall_ms);
-        if (run.trace) trace_ms.push_back(run.tracing.wall_ms);
-        if (pass > spec.warmup)
-            identical = identical && run.brick_digest == out.brick_digest && run.list_digest == out.list_digest &&
-                        run.trace_digest == out.trace_digest;
-        out = std::move(run);
-    }
-    out.construct_ms = measure::spread_of(construct_ms);
-    out.trace_ms = measure::spread_of(trace_ms);
-    out.identical = identical;
+    std::vector<std::vector<measure::Capture>> captures(devices.size());
+    int pass = 0;
+    out.job = detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
+        detail::Pass p = split_pass(lanes, scene, spec, basis ? &*basis : nullptr, last, out);
+        if (pass++ >= spec.warmup)
+            for (std::size_t i = 0; i < lanes.size(); ++i) captures[i].push_back(lanes[i].capture);
+        return p;
+    });
+    for (auto& c : captures) out.lanes.push_back(lane_run(std::move(c)));
     if (spec.rates) spec.rates->save();
     return out;
 }

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,12 +26,6 @@
 #include "render/brick_tracer.h"
 
 namespace sdfbrick::pipeline {
-
-// How a job uses several devices: each runs the whole job (replicate, then the results are compared),
-// or they share one job (split).
-enum class DeviceMode { replicate, split };
-std::string_view to_string(DeviceMode m);
-std::optional<DeviceMode> device_mode_from_string(std::string_view s);
 
 // Each device's measured rate per workload and stage, kept in one JSON file keyed by device (name,
 // driver, compute units), the global index first:
@@ -106,27 +101,23 @@ struct SplitSpec {
     int repeat = 1;  // timed passes (captures) after the warm-ups
     bool brick_digests = true;
     bool trace_digests = true;  // the image's digest every pass
-    bool image = true;          // the last pass's image read back (SplitRun::trace->buffer, colour)
+    bool image = true;          // the last pass's image read back (SplitRun::job.trace)
     RateStore* rates = nullptr;  // shares from it; the measured rates are written back
 };
 
+// A split run: the job's result (pipeline::Run: the merged bricks on the home lane's device, the
+// merged image, every lane's launches in each capture) and each lane's own launches.
 struct SplitRun {
-    render::SceneBricks bricks;  // merged, on the first device still in the run
-    std::optional<render::TraceResult> trace;
-    std::string brick_digest, list_digest, trace_digest;
-    std::uint64_t leaf_count = 0;
+    Run job;
+    std::vector<Run> lanes;  // per device: its captures (the launches of its parts), stages and total
     StageSplit construct, tracing;  // of the last pass; tracing.stage empty when not traced
-    // Wall time of each stage in each timed pass, and whether every pass gave the same digests.
-    measure::Spread construct_ms, trace_ms;
-    bool identical = true;
+    std::size_t home = 0;  // the lane whose device holds the job's bricks
 };
 
-// Digests, leaf count and the stages' splits.
-nlohmann::json to_json(const SplitRun& r);
-std::string to_text(const SplitRun& r);
-
-// Runs one job split over devices (at least one; one host thread each). Throws when every device
-// failed: the first failure itself when each was an InputError, else one error naming every device's.
-SplitRun run_split(const std::vector<ocl::Device*>& devices, const Scene& scene, const SplitSpec& spec);
+// Runs one job split over devices (at least one; one host thread each), on the executor's lanes
+// (one per device, made on first use and kept). Throws when every device failed: the first failure
+// itself when each was an InputError, else one error naming every device's.
+SplitRun run_split(std::vector<std::unique_ptr<Lane>>& lanes, const std::vector<ocl::Device*>& devices,
+                   const Scene& scene, const SplitSpec& spec);
 
 }  // namespace sdfbrick::pipeline

@@ -28,7 +28,7 @@ namespace {
 // What one device needs across points: its pipeline (compiled programs), peaks and references.
 struct DeviceState {
     ocl::Device* device = nullptr;
-    std::unique_ptr<pipeline::Runner> runner;
+    std::unique_ptr<pipeline::Lane> runner;
     std::optional<measure::DevicePeaks> peaks;
     std::map<std::string, reference::ReferenceResult> references;  // per scene file
 };
@@ -105,7 +105,7 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
     settings = resolved.build;
     trace = resolved.trace;
 
-    if (!state.runner) state.runner = std::make_unique<pipeline::Runner>(device);
+    if (!state.runner) state.runner = std::make_unique<pipeline::Lane>(device);
     const pipeline::RunSpec run_spec{pipeline::Work::trace, settings, trace, spec.warmup, spec.repeat};
     const pipeline::Run run = state.runner->run(scene, run_spec);
     const pipeline::RenderFigures figures = pipeline::render_figures(run, run_spec, device.info());

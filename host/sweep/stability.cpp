@@ -88,7 +88,7 @@ std::uint64_t differing_pixels(const RenderBuffer& a, const RenderBuffer& b) {
 // What a device keeps while it runs a case: its pipeline and the bricks of the current build.
 struct DeviceLane {
     ocl::Device* device = nullptr;
-    std::unique_ptr<pipeline::Runner> runner;
+    std::unique_ptr<pipeline::Lane> runner;
     std::optional<pipeline::Run> build;
     tune::Resolved settings;  // the case's build with this device's tuning
 };
@@ -258,7 +258,7 @@ StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices
     std::vector<DeviceLane> lanes;
     for (ocl::Device& d : devices) {
         report.devices.push_back(d.info().name);
-        lanes.push_back({&d, std::make_unique<pipeline::Runner>(d), std::nullopt, {}});
+        lanes.push_back({&d, std::make_unique<pipeline::Lane>(d), std::nullopt, {}});
     }
     StabilityProgress p;
     p.total = spec.cases.size() * lists.builds.size() * lists.methods.size() * lists.normals.size();

@@ -84,4 +84,12 @@ Resolved resolve_settings(const construct::BuildSettings& given_settings, const 
     return r;
 }
 
+pipeline::SettingsFor settings_for(const construct::BuildSettings& given_settings,
+                                   std::optional<render::TraceSettings> trace, const TuningDb* db, const Given& given) {
+    return [=](const ocl::DeviceInfo& device) {
+        Resolved r = resolve_settings(given_settings, trace ? &*trace : nullptr, db, device, given);
+        return pipeline::LaneSettings{r.build, r.trace, std::move(r.tuning.record), std::move(r.tuning.text)};
+    };
+}
+
 }  // namespace sdfbrick::tune

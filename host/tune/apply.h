@@ -4,12 +4,14 @@
 // report says which values were used and where they came from.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "construct/brick_builder.h"
 #include "cl/device.h"
+#include "pipeline/executor.h"
 #include "render/brick_tracer.h"
 #include "tune/kernels.h"
 #include "tune/tuning_db.h"
@@ -44,5 +46,10 @@ struct Resolved {
 // trace: null for construction-only work (its trace settings are then the defaults, untuned).
 Resolved resolve_settings(const construct::BuildSettings& given_settings, const render::TraceSettings* trace,
                           const TuningDb* db, const ocl::DeviceInfo& device, const Given& given);
+
+// The executor's settings function: resolve_settings on each lane's device (db must outlive it).
+// trace: empty for construction-only work.
+pipeline::SettingsFor settings_for(const construct::BuildSettings& given_settings,
+                                   std::optional<render::TraceSettings> trace, const TuningDb* db, const Given& given);
 
 }  // namespace sdfbrick::tune

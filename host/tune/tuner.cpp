@@ -17,7 +17,7 @@ constexpr double kNotRunnable = std::numeric_limits<double>::infinity();
 // Measures configurations of one kernel: each through the runner, with the kernel's objective as cost.
 class Measurer {
 public:
-    Measurer(const TunedKernel& kernel, pipeline::Runner& runner, const Scene& scene,
+    Measurer(const TunedKernel& kernel, pipeline::Lane& runner, const Scene& scene,
              const construct::BuildSettings& base, const TuneSpec& spec)
         : kernel_(kernel), runner_(runner), scene_(scene), base_(base), spec_(spec) {
         trace_.width = spec.width;
@@ -48,7 +48,7 @@ public:
 
 private:
     const TunedKernel& kernel_;
-    pipeline::Runner& runner_;
+    pipeline::Lane& runner_;
     const Scene& scene_;
     const construct::BuildSettings& base_;
     const TuneSpec& spec_;
@@ -60,7 +60,7 @@ private:
 
 bool TuneResult::found() const { return std::isfinite(result.best_cost); }
 
-TuneResult tune_kernel(const TunedKernel& kernel, pipeline::Runner& runner, const Scene& scene,
+TuneResult tune_kernel(const TunedKernel& kernel, pipeline::Lane& runner, const Scene& scene,
                        const construct::BuildSettings& base, const TuneSpec& spec, const TuneProgress& progress) {
     TuneResult t;
     t.kernel = &kernel;

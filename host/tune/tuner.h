@@ -1,5 +1,5 @@
 // The tuner: searches one declared kernel's configurations on one device, measuring each through the
-// run loop (pipeline::Runner): a build per configuration for brick_evaluate, trace passes over bricks
+// run loop (pipeline::Lane): a build per configuration for brick_evaluate, trace passes over bricks
 // built once for trace_primary. Each configuration's cost is the device time of the kernel's objective
 // stages, minimum over the captures; a configuration the device cannot take costs +infinity ("not
 // runnable"). docs/tuning.md.
@@ -44,7 +44,7 @@ using TuneProgress = std::function<void(std::size_t, const Config&, double)>;
 // Tunes kernel on runner's device over scene. base gives every other setting (for a Work::trace kernel,
 // the bricks are built once with it). Throws InputError for a bad strategy or settings the device
 // refuses outside the tuned parameters.
-TuneResult tune_kernel(const TunedKernel& kernel, pipeline::Runner& runner, const Scene& scene,
+TuneResult tune_kernel(const TunedKernel& kernel, pipeline::Lane& runner, const Scene& scene,
                        const construct::BuildSettings& base, const TuneSpec& spec, const TuneProgress& progress = {});
 
 // The database entry of a result (found() only): the best configuration, its time, the default's,

@@ -19,8 +19,8 @@ Scene spheres() {
     return scene_at(file, file.time);
 }
 
-pipeline::Runner& runner() {
-    static pipeline::Runner r(test::device());
+pipeline::Lane& runner() {
+    static pipeline::Lane r(test::device());
     return r;
 }
 
@@ -104,7 +104,7 @@ TEST(PipelineRun, ReusedMemoryGivesTheBitsOfAFreshDevice) {
     s.brick_digests = true;
     s.trace.shade = true;
     ocl::DeviceSet fresh = test::open_test_devices();
-    pipeline::Runner first(fresh[0]);
+    pipeline::Lane first(fresh[0]);
     const pipeline::Run clean = first.run(rain, s);
     runner().run(spheres(), s);  // leaves its buffers in the shared device's pool
     const std::size_t reused = test::device().memory_pool()->reused();

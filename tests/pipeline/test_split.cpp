@@ -69,11 +69,11 @@ TEST(PipelineSplit, BuildEqualsOneDeviceBitForBit) {
             const nlohmann::json one = run_json(dir, env, "--device 0 " + args);
             fs::remove(dir / "rates.json");  // split by the static estimate: half each, whatever the load
             const nlohmann::json split = run_json(dir, env, "--device cpu --devices split " + args);
-            ASSERT_EQ(split["construct"]["devices"].size(), 2u);
-            EXPECT_EQ(split["brick_digest"], one["digest"]) << args;
+            ASSERT_EQ(split["placement"]["construct"]["devices"].size(), 2u);
+            EXPECT_EQ(split["digest"], one["digest"]) << args;
             EXPECT_EQ(split["list_digest"], one["devices"][0]["list_digest"]) << args;
             EXPECT_EQ(split["bricks"], one["bricks"]) << args;
-            for (const auto& d : split["construct"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << args;
+            for (const auto& d : split["placement"]["construct"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << args;
         }
     }
 }
@@ -87,19 +87,71 @@ TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
         fs::remove(dir / "rates.json");  // split by the static estimate: half each, whatever the load
         const nlohmann::json split =
             run_json(dir, env, "--device cpu --devices split " + args + " --out " + (dir / "split.ppm").string());
-        EXPECT_EQ(split["trace_digest"], one["digest"]) << scene;
+        EXPECT_EQ(split["digest"], one["digest"]) << scene;
         EXPECT_EQ(split["bricks"], one["bricks"]) << scene;
         EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << scene;
-        for (const auto& d : split["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << scene;
+        for (const auto& d : split["placement"]["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << scene;
         // Where the time went: every device ran kernels and copied; each tracing device received the
         // whole merged scene, so the same bytes.
         for (const char* stage : {"construct", "trace"})
-            for (const auto& d : split[stage]["devices"]) {
+            for (const auto& d : split["placement"][stage]["devices"]) {
                 EXPECT_GT(d["kernels_ms"].get<double>(), 0.0) << stage;
                 EXPECT_GT(d["copied_bytes"].get<std::uint64_t>(), 0u) << stage;
                 EXPECT_LE(d["copies_ms"].get<double>(), d["busy_ms"].get<double>()) << stage;
             }
-        EXPECT_EQ(split["trace"]["devices"][0]["copied_bytes"], split["trace"]["devices"][1]["copied_bytes"]);
+        EXPECT_EQ(split["placement"]["trace"]["devices"][0]["copied_bytes"], split["placement"]["trace"]["devices"][1]["copied_bytes"]);
+    }
+}
+
+// Adaptive leaves split at the coarsest leaf level at the latest: the same bricks, levels, pool and
+// image as on one device, the same per-level leaves.
+TEST(PipelineSplit, AdaptiveEqualsOneDeviceBitForBit) {
+    const fs::path dir = test::temp_dir("split_adaptive");
+    const std::string env = two_devices(dir, "SDFBRICK_RATES=off");
+    for (const std::string& args : {"build " + scene_path("thin") + " --brick-size 0.03125 --tolerance 0.004",
+                                    "render " + two_geometry_scene(dir).string() +
+                                        " --width 96 --height 64 --mode shaded --shadow-rays 1 --ao-rays 1"
+                                        " --brick-size 0.03125 --tolerance 0.003"}) {
+        const bool build = args.starts_with("build");
+        const auto out = [&](const char* name) { return build ? "" : " --out " + (dir / name).string(); };
+        const nlohmann::json one = run_json(dir, env, "--device 0 " + args + out("one.ppm"));
+        const nlohmann::json split = run_json(dir, env, "--device cpu --devices split " + args + out("split.ppm"));
+        EXPECT_EQ(split["digest"], one["digest"]) << args;
+        EXPECT_EQ(split["bricks"], one["bricks"]) << args;
+        ASSERT_EQ(split["placement"]["construct"]["devices"].size(), 2u) << args;
+        for (const auto& d : split["placement"]["construct"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.0) << args;
+        if (build) {
+            EXPECT_EQ(split["list_digest"], one["list_digest"]) << args;
+            const auto& a = one["geometries"][0]["levels"];
+            const auto& b = split["geometries"][0]["levels"];
+            ASSERT_EQ(a.size(), b.size());
+            for (std::size_t l = 0; l < a.size(); ++l) EXPECT_EQ(a[l]["leaves"], b[l]["leaves"]) << l;
+        } else {
+            EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << args;
+        }
+    }
+}
+
+// --compare and --reference run on the device that holds the job's bricks: the same accuracy and
+// pictures as one device, and a report of the same schema as one device's.
+TEST(PipelineSplit, CompareAndReferenceEqualOneDevice) {
+    const fs::path dir = test::temp_dir("split_compare");
+    const std::string env = two_devices(dir, "SDFBRICK_RATES=off");
+    for (const std::string& extra : {std::string(" --compare"), std::string(" --reference --mode normals")}) {
+        const std::string args = "render " + scene_path("spheres") + " --brick-size 0.125 --width 96 --height 64" + extra;
+        const nlohmann::json one = run_json(dir, env, "--device 0 " + args + " --out " + (dir / "one.ppm").string());
+        const nlohmann::json split =
+            run_json(dir, env, "--device cpu --devices split " + args + " --out " + (dir / "split.ppm").string());
+        EXPECT_EQ(split["digest"], one["digest"]) << extra;
+        EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << extra;
+        if (extra == " --compare") {
+            EXPECT_EQ(split["accuracy"], one["accuracy"]);
+            EXPECT_EQ(read_file(dir / "split-reference.ppm"), read_file(dir / "one-reference.ppm"));
+            EXPECT_EQ(read_file(dir / "split-difference.ppm"), read_file(dir / "one-difference.ppm"));
+        }
+        for (const auto& [key, value] : one.items()) EXPECT_TRUE(split.contains(key)) << key << extra;
+        EXPECT_EQ(one["placement"]["placement"], "whole");
+        EXPECT_EQ(split["placement"]["placement"], "split");
     }
 }
 
@@ -112,13 +164,13 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     const std::string args =
         "--device cpu --devices split render " + scene_path("spheres") + kRender + " --out " + (dir / "p.ppm").string();
     const nlohmann::json first = run_json(dir, env, args);
-    EXPECT_EQ(first["construct"]["basis"], pipeline::kStaticBasis);
-    EXPECT_NEAR(first["construct"]["devices"][0]["planned"].get<double>(), 0.5, 1e-9);
+    EXPECT_EQ(first["placement"]["construct"]["basis"], pipeline::kStaticBasis);
+    EXPECT_NEAR(first["placement"]["construct"]["devices"][0]["planned"].get<double>(), 0.5, 1e-9);
     nlohmann::json store = nlohmann::json::parse(read_file(dir / "rates.json"));
     ASSERT_EQ(store.size(), 2u);
     double r = 1.0;
     const std::string workload = "spheres at 0.125";
-    EXPECT_EQ(first["construct"]["workload"], workload);
+    EXPECT_EQ(first["placement"]["construct"]["workload"], workload);
     for (auto& [key, rates] : store.items()) {  // keys begin with the device index: 0 first
         for (const char* stage : {"construct", "trace"}) {
             ASSERT_GT(rates[workload][stage].get<double>(), 0.0) << key;
@@ -129,12 +181,12 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     test::write_text(dir / "rates.json", store.dump());
     const nlohmann::json second = run_json(dir, env, args);
     for (const char* stage : {"construct", "trace"}) {
-        EXPECT_EQ(second[stage]["basis"], "measured rates");
-        EXPECT_NEAR(second[stage]["devices"][0]["planned"].get<double>(), 0.25, 1e-9) << stage;
-        EXPECT_NEAR(second[stage]["devices"][1]["planned"].get<double>(), 0.75, 1e-9) << stage;
+        EXPECT_EQ(second["placement"][stage]["basis"], "measured rates");
+        EXPECT_NEAR(second["placement"][stage]["devices"][0]["planned"].get<double>(), 0.25, 1e-9) << stage;
+        EXPECT_NEAR(second["placement"][stage]["devices"][1]["planned"].get<double>(), 0.75, 1e-9) << stage;
     }
-    EXPECT_EQ(second["trace_digest"], first["trace_digest"]);
-    EXPECT_GT(second["construct"]["speedup_estimated"].get<double>(), 0.0);
+    EXPECT_EQ(second["digest"], first["digest"]);
+    EXPECT_GT(second["placement"]["construct"]["speedup_estimated"].get<double>(), 0.0);
     // Under a tenth of the total weight: no share at all.
     r = 1.0;
     for (auto& [key, rates] : store.items()) {
@@ -144,10 +196,10 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     test::write_text(dir / "rates.json", store.dump());
     const nlohmann::json third = run_json(dir, env, args);
     for (const char* stage : {"construct", "trace"}) {
-        EXPECT_EQ(third[stage]["devices"][0]["done"].get<double>(), 0.0) << stage;
-        EXPECT_EQ(third[stage]["devices"][1]["done"].get<double>(), 1.0) << stage;
+        EXPECT_EQ(third["placement"][stage]["devices"][0]["done"].get<double>(), 0.0) << stage;
+        EXPECT_EQ(third["placement"][stage]["devices"][1]["done"].get<double>(), 1.0) << stage;
     }
-    EXPECT_EQ(third["trace_digest"], first["trace_digest"]);
+    EXPECT_EQ(third["digest"], first["digest"]);
     // Rates of another workload (scene and brick size) are not this one's: device 0's rate for
     // spheres at 0.125 beside device 1's for another scene gives the static estimate.
     for (auto& [key, rates] : store.items()) {
@@ -156,7 +208,7 @@ TEST(PipelineSplit, BalanceFollowsMeasuredRates) {
     }
     test::write_text(dir / "rates.json", store.dump());
     const nlohmann::json fourth = run_json(dir, env, args);
-    for (const char* stage : {"construct", "trace"}) EXPECT_EQ(fourth[stage]["basis"], pipeline::kStaticBasis) << stage;
+    for (const char* stage : {"construct", "trace"}) EXPECT_EQ(fourth["placement"][stage]["basis"], pipeline::kStaticBasis) << stage;
 }
 
 // A device that fails at its n-th launch has its share redone by the other: the same bits, and the
@@ -171,13 +223,13 @@ TEST(PipelineSplit, DeviceFaultGivesTheSameBits) {
         for (int n : {1, 12, 40, 44}) {
             const std::string fault = fmt::format("SDFBRICK_RATES=off SDFBRICK_FAULT=launch@{}:{}", device, n);
             const nlohmann::json j = run_json(dir, two_devices(dir, fault), args);
-            EXPECT_EQ(j["trace_digest"], clean["trace_digest"]) << fault;
-            EXPECT_EQ(j["brick_digest"], clean["brick_digest"]) << fault;
+            EXPECT_EQ(j["digest"], clean["digest"]) << fault;
+            EXPECT_EQ(j["bricks"], clean["bricks"]) << fault;
             const std::string stage = n < 40 ? "construct" : "trace";
-            const auto& failure = j[stage]["devices"][device]["failure"];
+            const auto& failure = j["placement"][stage]["devices"][device]["failure"];
             ASSERT_TRUE(failure.is_string()) << fault << " " << j.dump();
             EXPECT_NE(failure.get<std::string>().find("injected"), std::string::npos) << failure;
-            EXPECT_GT(j[stage]["devices"][1 - device]["done"].get<double>(), 0.99) << fault;
+            EXPECT_GT(j["placement"][stage]["devices"][1 - device]["done"].get<double>(), 0.99) << fault;
         }
     }
 }
@@ -189,8 +241,8 @@ TEST(PipelineSplit, DeviceThatCannotHoldItsShareGetsLess) {
     const std::string args = "--device cpu --devices split build " + scene_path("drops") + " --brick-size 0.25";
     const nlohmann::json clean = run_json(dir, two_devices(dir, "SDFBRICK_RATES=off"), args);
     const nlohmann::json once = run_json(dir, two_devices(dir, "SDFBRICK_RATES=off SDFBRICK_FAULT=alloc@1:1"), args);
-    EXPECT_EQ(once["brick_digest"], clean["brick_digest"]);
-    const auto& shares = once["construct"]["devices"];
+    EXPECT_EQ(once["digest"], clean["digest"]);
+    const auto& shares = once["placement"]["construct"]["devices"];
     EXPECT_TRUE(shares[1]["failure"].is_null()) << shares;
     ASSERT_TRUE(shares[1]["limit"].is_string()) << shares;
     EXPECT_NE(shares[1]["limit"].get<std::string>().find("could not hold 50.0%"), std::string::npos) << shares;
@@ -199,8 +251,8 @@ TEST(PipelineSplit, DeviceThatCannotHoldItsShareGetsLess) {
     std::string every = "SDFBRICK_RATES=off SDFBRICK_FAULT=";
     for (int n = 1; n <= 6; ++n) every += fmt::format("{}alloc@1:{}", n > 1 ? "," : "", n);
     const nlohmann::json never = run_json(dir, two_devices(dir, every), args);
-    EXPECT_EQ(never["brick_digest"], clean["brick_digest"]);
-    const auto& gone = never["construct"]["devices"];
+    EXPECT_EQ(never["digest"], clean["digest"]);
+    const auto& gone = never["placement"]["construct"]["devices"];
     ASSERT_TRUE(gone[1]["failure"].is_string()) << gone;
     EXPECT_NE(gone[1]["failure"].get<std::string>().find("could not hold even 1.6%"), std::string::npos) << gone;
     EXPECT_EQ(gone[1]["done"].get<double>(), 0.0);
@@ -237,13 +289,16 @@ TEST(PipelineSplit, RepeatedCapturesGiveTheSameBits) {
     const std::string render = " render " + scene_path("spheres") + kRender + " --out " + (dir / "p.ppm").string();
     const nlohmann::json once = run_json(dir, env, "--device cpu --devices split" + render);
     const nlohmann::json thrice = run_json(dir, env, "--device cpu --devices split" + render + " --repeat 3 --warmup 1");
-    EXPECT_TRUE(thrice["identical"].get<bool>());
-    EXPECT_EQ(thrice["trace_digest"], once["trace_digest"]);
-    EXPECT_EQ(thrice["brick_digest"], once["brick_digest"]);
-    for (const char* stage : {"construct", "trace"}) {
-        EXPECT_EQ(once[stage]["captures"]["samples_ms"].size(), 1u) << stage;
-        ASSERT_EQ(thrice[stage]["captures"]["samples_ms"].size(), 3u) << stage;
-        EXPECT_GT(thrice[stage]["captures"]["median_ms"].get<double>(), 0.0) << stage;
+    EXPECT_TRUE(thrice["captures"]["identical"].get<bool>());
+    EXPECT_EQ(thrice["digest"], once["digest"]);
+    EXPECT_EQ(once["wall_ms"]["samples_ms"].size(), 1u);
+    ASSERT_EQ(thrice["wall_ms"]["samples_ms"].size(), 3u);
+    EXPECT_GT(thrice["wall_ms"]["median_ms"].get<double>(), 0.0);
+    // Each lane's own launches, captured three times.
+    for (const auto& d : thrice["devices"]) {
+        EXPECT_EQ(d["captures"], 3) << d.dump();
+        EXPECT_FALSE(d["stages"].empty()) << d.dump();
+        EXPECT_GT(d["total_ms"]["median_ms"].get<double>(), 0.0);
     }
 }
 

@@ -252,7 +252,7 @@ TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
 TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
     const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json");
     const Scene scene = scene_at(file, file.time);
-    pipeline::Runner runner(test::device());
+    pipeline::Lane runner(test::device());
     construct::BuildSettings base;
     base.leaf_size = 0.5;
     tune::TuneSpec spec;
