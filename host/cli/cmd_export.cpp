@@ -13,7 +13,7 @@
 #include "core/files.h"
 #include "exchange/sample.h"
 #include "exchange/vdb.h"
-#include "pipeline/run.h"
+#include "pipeline/executor.h"
 #include "tune/apply.h"
 #include "scene/scene_json.h"
 
@@ -47,10 +47,16 @@ HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global) {
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     ocl::Device& device = *devices.begin();
     const TuningChoice tuning = open_tuning(global);
-    h.settings = tune::resolve_settings(o.flags.resolve(), nullptr, tuning.get(), device.info(), o.flags.given()).build;
     h.device = device.info().name;
-    pipeline::Lane runner(device);
-    const pipeline::Run run = runner.run(h.scene, {pipeline::Work::construct, h.settings, {}, 0, 1, false});
+    pipeline::Executor executor(device);
+    pipeline::Job job;
+    job.work = pipeline::Work::construct;
+    job.settings = tune::settings_for(o.flags.resolve(), std::nullopt, tuning.get(), o.flags.given());
+    job.brick_digests = false;
+    job.image = false;
+    const pipeline::Execution e = executor.run(h.scene, job);
+    const pipeline::Run& run = e.job();
+    h.settings = e.home_lane().settings.build;
     const auto start = std::chrono::steady_clock::now();
     for (const construct::GeometryBuild& b : run.bricks.builds) {
         h.bricks.emplace_back(b, h.settings);

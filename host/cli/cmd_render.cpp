@@ -125,6 +125,7 @@ struct RenderReport {
     std::optional<std::pair<int, int>> shade_rays;  // shaded mode: shadow and ambient occlusion rays per pixel
     std::optional<BrickRender> job;                 // the job's render (not with --reference)
     std::string digest;                             // of the job's image
+    std::size_t home = 0;                           // the device that holds the job's bricks
     nlohmann::json placement;
     std::string placement_text;
     std::vector<DeviceRenderReport> devices;
@@ -234,6 +235,9 @@ nlohmann::json to_json(const RenderReport& r) {
         for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "wall_ms", "total_ms", "captures"})
             if (job.contains(key)) report[key] = job[key];
     }
+    if (!report.contains("stages")) report["stages"] = nlohmann::json::array();
+    if (const auto& reference = r.devices.at(r.home).reference)
+        report["stages"].push_back({{"name", "reference"}, {"device_ms", reference->device_ms}});
     if (first.contains("tuning")) report["tuning"] = first["tuning"];
     return report;
 }
@@ -350,6 +354,7 @@ Images add_execution(RenderReport& report, pipeline::Execution& e, const Scene& 
     const bool several = e.lanes.size() > 1 && !e.split;
     report.placement = pipeline::placement_json(e);
     report.placement_text = pipeline::placement_text(e);
+    report.home = e.home;
     if (!o.reference) {
         report.job = brick_render(pipeline::render_figures(e), e.job(), scene, o, ref ? &ref->image : nullptr, several);
         report.digest = e.job().trace_digest;

@@ -13,7 +13,7 @@
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/files.h"
-#include "pipeline/run.h"
+#include "pipeline/executor.h"
 #include "scene/to_device.h"
 #include "scene/scene_json.h"
 #include "tune/kernels.h"
@@ -93,14 +93,15 @@ nlohmann::json tune_device(ocl::Device& device, const Scene& scene, const std::v
     const ocl::DeviceInfo& info = device.info();
     say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
     nlohmann::json report = {{"device", info.to_json()}};
-    pipeline::Lane runner(device);
+    pipeline::Executor executor(device);
+    pipeline::Lane& lane = executor.lane(0);
     construct::BuildSettings settings = base;
     for (const tune::TunedKernel* k : kernels) {
         if (k->work == pipeline::Work::trace)
             say(fmt::format("  {} ({}x{}, {}):\n", k->name, o.spec.width, o.spec.height, k->objective_text));
         else
             say(fmt::format("  {} ({}):\n", k->name, k->objective_text));
-        const tune::TuneResult t = tune::tune_kernel(*k, runner, scene, settings, o.spec, print_measured);
+        const tune::TuneResult t = tune::tune_kernel(*k, lane, scene, settings, o.spec, print_measured);
         record(db, info, t, o, report);
         render::TraceSettings unused;
         if (t.found() && k->work != pipeline::Work::trace) k->apply(t.result.best, settings, unused);

@@ -85,4 +85,22 @@ Execution Executor::run(const Scene& scene, const Job& job, Placement placement)
     return out;
 }
 
+Execution Executor::trace(const Scene& scene, const Execution& built, const Job& job) {
+    if (!job.settings) throw std::invalid_argument("executor: a job needs its settings");
+    Execution out;
+    out.placement = built.placement == Placement::replicate ? Placement::replicate : Placement::whole;
+    out.warmup = job.warmup;
+    for (std::size_t i = 0; i < built.lanes.size(); ++i) {
+        if (out.placement != Placement::replicate && i != built.home) continue;
+        const ocl::DeviceInfo& device = built.lanes[i].device;
+        LaneRun l{device, job.settings(device), {}, {}};
+        const RunSpec spec{Work::trace, l.settings.build, l.settings.trace, job.warmup, job.repeat, false,
+                           job.trace_digests, job.image};
+        const render::SceneBricks& bricks = built.split ? built.split->bricks : built.lanes[i].run.bricks;
+        l.run = lane(i).trace(scene, bricks, spec);
+        out.lanes.push_back(std::move(l));
+    }
+    return out;
+}
+
 }  // namespace sdfbrick::pipeline

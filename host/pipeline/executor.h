@@ -89,6 +89,11 @@ public:
     // device refuses, std::invalid_argument for a job without settings or with warmup < 0 or repeat < 1.
     Execution run(const Scene& scene, const Job& job, Placement placement = Placement::whole);
 
+    // Trace passes only, through the bricks of an earlier run of this executor (built: its Work::bvh
+    // or Work::trace execution): every lane of a replicate run traces its own bricks; a whole or split
+    // run's bricks are traced on their home lane. job.work and the build settings are not used.
+    Execution trace(const Scene& scene, const Execution& built, const Job& job);
+
 private:
     std::vector<ocl::Device*> devices_;
     std::vector<std::unique_ptr<Lane>> lanes_;

@@ -29,7 +29,22 @@ Pass finish(Pass& p, measure::Scheduler& scheduler) {
 
 }  // namespace
 
-Lane::Lane(ocl::Device& device) : builder_(device), bvh_(device), tracer_(device) {}
+Lane::Lane(ocl::Device& device) : device_(device) {}
+
+construct::BrickBuilder& Lane::builder() {
+    if (!builder_) builder_.emplace(device_);
+    return *builder_;
+}
+
+bvh::BvhBuilder& Lane::bvh() {
+    if (!bvh_) bvh_.emplace(device_);
+    return *bvh_;
+}
+
+render::BrickTracer& Lane::tracer() {
+    if (!tracer_) tracer_.emplace(device_);
+    return *tracer_;
+}
 
 Lane::~Lane() = default;
 
@@ -58,15 +73,15 @@ Run Lane::run(const Scene& scene, const RunSpec& spec) {
     return detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
         measure::Scheduler scheduler(device());
         Pass p;
-        p.bricks = timed(p.construct_wall, [&] { return render::build_scene_bricks(builder_, scene, spec.build, scheduler); });
+        p.bricks = timed(p.construct_wall, [&] { return render::build_scene_bricks(builder(), scene, spec.build, scheduler); });
         if (spec.work != Work::construct)
-            timed(p.bvh_wall, [&] { render::prepare_tracing(bvh_, scene, p.bricks, scheduler); });
+            timed(p.bvh_wall, [&] { render::prepare_tracing(bvh(), scene, p.bricks, scheduler); });
         if (spec.brick_digests) {
             BrickDigests d = timed(p.digest_wall, [&] { return brick_digests(p.bricks, digest()); });
             p.brick_digest = std::move(d.bricks);
             p.list_digest = std::move(d.lists);
         }
-        if (camera) trace_pass(tracer_, p, scene, p.bricks, *camera, spec, scheduler, last);
+        if (camera) trace_pass(tracer(), p, scene, p.bricks, *camera, spec, scheduler, last);
         return finish(p, scheduler);
     });
 }
@@ -76,7 +91,7 @@ Run Lane::trace(const Scene& scene, const render::SceneBricks& bricks, const Run
     return detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
         measure::Scheduler scheduler(device());
         Pass p;
-        trace_pass(tracer_, p, scene, bricks, camera, spec, scheduler, last);
+        trace_pass(tracer(), p, scene, bricks, camera, spec, scheduler, last);
         return finish(p, scheduler);
     });
 }

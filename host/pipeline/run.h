@@ -57,10 +57,11 @@ public:
     ~Lane();
     Lane(const Lane&) = delete;
     Lane& operator=(const Lane&) = delete;
-    ocl::Device& device() { return builder_.device(); }
-    construct::BrickBuilder& builder() { return builder_; }
-    bvh::BvhBuilder& bvh() { return bvh_; }
-    render::BrickTracer& tracer() { return tracer_; }
+    ocl::Device& device() { return device_; }
+    // Each made on first use (a lane that only runs the reference tracer compiles nothing else).
+    construct::BrickBuilder& builder();
+    bvh::BvhBuilder& bvh();
+    render::BrickTracer& tracer();
     ocl::DeviceDigest& digest();                 // made on first use
     reference::ReferenceTracer& reference();    // made on first use
 
@@ -72,9 +73,10 @@ public:
     Run trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec);
 
 private:
-    construct::BrickBuilder builder_;
-    bvh::BvhBuilder bvh_;
-    render::BrickTracer tracer_;
+    ocl::Device& device_;
+    std::optional<construct::BrickBuilder> builder_;
+    std::optional<bvh::BvhBuilder> bvh_;
+    std::optional<render::BrickTracer> tracer_;
     std::optional<ocl::DeviceDigest> digest_;  // the brick digests' program and scratch, made on first use
     std::optional<reference::ReferenceTracer> reference_;
 };

@@ -28,7 +28,7 @@ namespace {
 // What one device needs across points: its pipeline (compiled programs), peaks and references.
 struct DeviceState {
     ocl::Device* device = nullptr;
-    std::unique_ptr<pipeline::Lane> runner;
+    std::unique_ptr<pipeline::Executor> executor;  // one lane, whole placement
     std::optional<measure::DevicePeaks> peaks;
     std::map<std::string, reference::ReferenceResult> references;  // per scene file
 };
@@ -100,15 +100,19 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
     trace.method = *render::method_from_string(p.method);
     trace.normals = *render::normals_from_string(p.normals);
     if (p.trace_group) std::tie(trace.group_x, trace.group_y) = parse_group_2d(*p.trace_group, "trace group");
-    const tune::Resolved resolved = tune::resolve_settings(
-        settings, &trace, tuning, device.info(), {p.chunk.has_value(), p.group.has_value(), p.trace_group.has_value()});
-    settings = resolved.build;
-    trace = resolved.trace;
-
-    if (!state.runner) state.runner = std::make_unique<pipeline::Lane>(device);
-    const pipeline::RunSpec run_spec{pipeline::Work::trace, settings, trace, spec.warmup, spec.repeat};
-    const pipeline::Run run = state.runner->run(scene, run_spec);
-    const pipeline::RenderFigures figures = pipeline::render_figures(run, run_spec, device.info());
+    if (!state.executor) state.executor = std::make_unique<pipeline::Executor>(device);
+    pipeline::Job job;
+    job.settings = tune::settings_for(settings, trace, tuning,
+                                      {p.chunk.has_value(), p.group.has_value(), p.trace_group.has_value()});
+    job.warmup = spec.warmup;
+    job.repeat = spec.repeat;
+    job.brick_digests = false;
+    job.image = spec.accuracy;
+    const pipeline::Execution e = state.executor->run(scene, job);
+    const pipeline::Run& run = e.job();
+    settings = e.home_lane().settings.build;
+    trace = e.home_lane().settings.trace;
+    const pipeline::RenderFigures figures = pipeline::render_figures(e);
     if (!state.peaks) state.peaks = measure::device_peaks(device);
     row.chunk = settings.chunk;
     row.group = settings.eval_group;
@@ -119,8 +123,8 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
     if (spec.accuracy) {
         auto it = state.references.find(p.scene);
         if (it == state.references.end()) {
-            reference::ReferenceTracer ref(device);
-            it = state.references.emplace(p.scene, ref.render(scene, make_camera(scene.camera, spec.width, spec.height))).first;
+            const SdfCamera camera = make_camera(scene.camera, spec.width, spec.height);
+            it = state.references.emplace(p.scene, state.executor->lane(0).reference().render(scene, camera)).first;
         }
         const reference::AccuracyMetrics a = reference::compare(run.trace->buffer, it->second.image, run.bricks.voxel_world);
         row.results->accuracy = point_accuracy(a);

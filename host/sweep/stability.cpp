@@ -14,7 +14,7 @@
 
 #include "core/errors.h"
 #include "image/image.h"
-#include "pipeline/run.h"
+#include "pipeline/executor.h"
 #include "reference/device_tracer.h"
 #include "render/pictures.h"
 #include "scene/scene_json.h"
@@ -85,14 +85,6 @@ std::uint64_t differing_pixels(const RenderBuffer& a, const RenderBuffer& b) {
     return n;
 }
 
-// What a device keeps while it runs a case: its pipeline and the bricks of the current build.
-struct DeviceLane {
-    ocl::Device* device = nullptr;
-    std::unique_ptr<pipeline::Lane> runner;
-    std::optional<pipeline::Run> build;
-    tune::Resolved settings;  // the case's build with this device's tuning
-};
-
 construct::BuildSettings build_settings(const StabilityCase& c, const BuildChoice& b, double tolerance_voxels) {
     construct::BuildSettings s;
     s.leaf_size = c.brick_size;
@@ -108,13 +100,12 @@ std::string picture_path(const std::string& folder, const std::string& name) {
 // Everything one case runs, with the state its cells share.
 class CaseRun {
 public:
-    CaseRun(const StabilitySpec& spec, const Lists& lists, std::vector<DeviceLane>& lanes, const StabilityCase& c)
-        : spec_(spec), lists_(lists), lanes_(lanes), case_(c) {
+    CaseRun(const StabilitySpec& spec, const Lists& lists, pipeline::Executor& executor, const StabilityCase& c)
+        : spec_(spec), lists_(lists), executor_(executor), case_(c) {
         const Scene file_scene = load_scene(c.file);
         scene_ = scene_at(file_scene, file_scene.time);
         camera_ = make_camera(scene_.camera, spec.width, spec.height);
-        reference::ReferenceTracer tracer(*lanes.front().device);
-        reference_ = tracer.render(scene_, camera_).image;
+        reference_ = executor.lane(0).reference().render(scene_, camera_).image;
         if (spec.pictures) write_image(normal_image(reference_), picture_path(*spec.pictures, name() + "-reference"));
     }
 
@@ -124,12 +115,13 @@ public:
     std::string build(const BuildChoice& b) {
         settings_ = build_settings(case_, b, spec_.tolerance_voxels);
         try {
-            const render::TraceSettings untuned;
-            for (DeviceLane& lane : lanes_) {
-                lane.build.reset();
-                lane.settings = tune::resolve_settings(settings_, &untuned, spec_.tuning, lane.device->info(), {});
-                lane.build = lane.runner->run(scene_, {pipeline::Work::bvh, lane.settings.build, {}, 0, 1});
-            }
+            built_.reset();
+            pipeline::Job job;
+            job.work = pipeline::Work::bvh;
+            job.settings = tune::settings_for(settings_, render::TraceSettings{}, spec_.tuning, {});
+            job.brick_digests = false;
+            built_ = executor_.run(scene_, job, executor_.size() > 1 ? pipeline::Placement::replicate
+                                                                    : pipeline::Placement::whole);
         } catch (const std::exception& e) {
             return e.what();
         }
@@ -162,29 +154,33 @@ public:
 
 private:
     void trace(StabilityCell& c) {
-        render::TraceSettings t;
-        t.width = spec_.width;
-        t.height = spec_.height;
-        t.method = c.method;
-        t.normals = c.normals;
+        pipeline::Job job;
+        job.settings = [&](const ocl::DeviceInfo& device) {  // the build's settings and tuned trace group
+            const auto lane = std::find_if(built_->lanes.begin(), built_->lanes.end(),
+                                           [&](const pipeline::LaneRun& l) { return l.device.index == device.index; });
+            pipeline::LaneSettings s = lane->settings;
+            s.trace.width = spec_.width;
+            s.trace.height = spec_.height;
+            s.trace.method = c.method;
+            s.trace.normals = c.normals;
+            return s;
+        };
+        pipeline::Execution traced = executor_.trace(scene_, *built_, job);
         std::optional<RenderBuffer> first;
-        for (DeviceLane& lane : lanes_) {
-            t.group_x = lane.settings.trace.group_x;
-            t.group_y = lane.settings.trace.group_y;
-            const pipeline::RunSpec run_spec{pipeline::Work::trace, lane.settings.build, t, 0, 1};
-            pipeline::Run run = lane.runner->trace(scene_, lane.build->bricks, run_spec);
+        for (std::size_t i = 0; i < traced.lanes.size(); ++i) {
+            pipeline::Run& run = traced.lanes[i].run;
             RenderBuffer& buffer = run.trace->buffer;
             if (first) {
                 c.device_differences = c.device_differences.value_or(0) + differing_pixels(*first, buffer);
                 continue;
             }
-            const render::SceneBricks& bricks = lane.build->bricks;
+            const render::SceneBricks& bricks = built_->lanes[i].run.bricks;
             const std::vector<double> voxels = pixel_voxels(scene_, bricks, buffer);
             c.accuracy = reference::compare(buffer, reference_, voxels);
             c.capped_rays = render::work_counts(buffer).capped_rays;
             for (const render::TraceWarning& w : run.trace->warnings) c.warnings.push_back(w.message);
             c.bricks = bricks.bricks;
-            c.build_ms = lane.build->build_ms.median;
+            c.build_ms = built_->lanes[i].run.build_ms.median;
             c.trace_ms = run.trace_ms.median;
             if (pictured(c)) write_pictures(c, buffer, voxels);
             first = std::move(buffer);
@@ -210,7 +206,8 @@ private:
 
     const StabilitySpec& spec_;
     const Lists& lists_;
-    std::vector<DeviceLane>& lanes_;
+    pipeline::Executor& executor_;
+    std::optional<pipeline::Execution> built_;  // the current build, one per device
     StabilityCase case_;
     Scene scene_;
     SdfCamera camera_{};
@@ -255,15 +252,16 @@ StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices
     report.width = spec.width;
     report.height = spec.height;
     report.tolerance_voxels = spec.tolerance_voxels;
-    std::vector<DeviceLane> lanes;
+    std::vector<ocl::Device*> pointers;
     for (ocl::Device& d : devices) {
         report.devices.push_back(d.info().name);
-        lanes.push_back({&d, std::make_unique<pipeline::Lane>(d), std::nullopt, {}});
+        pointers.push_back(&d);
     }
+    pipeline::Executor executor(pointers);
     StabilityProgress p;
     p.total = spec.cases.size() * lists.builds.size() * lists.methods.size() * lists.normals.size();
     for (const StabilityCase& c : spec.cases) {
-        CaseRun run(spec, lists, lanes, c);
+        CaseRun run(spec, lists, executor, c);
         for (const BuildChoice& b : lists.builds) {
             p.current = fmt::format("{} {} {}", run.name(), construct::to_string(b.format), b.adaptive ? "adaptive" : "uniform");
             if (progress) progress(p);
