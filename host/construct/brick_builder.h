@@ -31,6 +31,10 @@
 
 namespace sdfbrick::construct {
 
+namespace detail {
+struct BuildPrograms;
+}
+
 struct BuildSettings {
     double leaf_size = 0.0625;    // side of a leaf brick (geometry units)
     int levels = 0;               // 0: the fewest that cover the geometry; else exactly this many
@@ -162,11 +166,9 @@ public:
                         const Subtrees* subtrees = nullptr);
 
 private:
-    struct Programs;
-    class Job;  // one build() call's steps
     ocl::Device& device_;
     Scan scan_;
-    std::unique_ptr<Programs> programs_;
+    std::unique_ptr<detail::BuildPrograms> programs_;  // construct/build_parts.h
 };
 
 // Digest of a build's output: domain, layout, and the tree digests (core/hash.h) of the leaf

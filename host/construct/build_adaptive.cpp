@@ -1,0 +1,103 @@
+#include "construct/build_parts.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cl/launch.h"
+
+namespace sdfbrick::construct::detail {
+
+// The check of one level coarser than the finest (brick_check.cl), then the split of its bricks
+// into leaves and parents by the scan of the results (brick_split).
+std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
+    const std::uint64_t n = levels.parent_count();
+    const BrickLayout layout = in_.settings.layout();
+    const std::size_t group = std::min<std::size_t>(in_.settings.eval_group, layout.samples_per_brick());
+    const ocl::Program program = ocl::build_program(in_.device, "brick_check.cl", layout.defines());
+    const ocl::Kernel kernel = ocl::make_kernel(program, "brick_check");
+    LevelLeaves out{level, 0, nullptr, allocate<float>(in_.device, n, "the check errors"),
+                    allocate<cl_uint>(in_.device, n, "the check results"), nullptr};
+    const float band = std::ldexp(in_.plan.band, in_.plan.shift(level));
+    ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), in_.origin.x, in_.origin.y, in_.origin.z,
+                  static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level))), in_.plan.level_clamp[level], band,
+                  layout.quantise_scale(band), layout.dequantise_scale(band), in_.plan.tolerance, in_.plan.band, out.errors,
+                  out.passed,
+                  ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)}, ocl::LocalMemory{group * sizeof(float)});
+    in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
+    ocl::Buffer<cl_uint>& offsets = levels.offsets(n, "the leaf offsets");
+    out.count = in_.scan.exclusive(out.passed, offsets, n, in_.scheduler, measure::Stage::check, level);
+    out.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(
+        allocate<SdfBrick>(in_.device, out.count, fmt::format("the leaves of level {}", level)));
+    auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(
+        allocate<SdfBrick>(in_.device, n - out.count, fmt::format("the parents of level {}", level + 1)));
+    const auto& k = in_.programs;
+    ocl::set_args(k.split_k.get(), levels.parents(), static_cast<cl_uint>(n), out.passed, offsets, *out.leaves, *parents);
+    in_.scheduler.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
+    levels.bytes.bricks += out.leaves->bytes() + parents->bytes();
+    levels.set_parents(std::move(parents));
+    const std::uint64_t left = n - out.count;
+    checked_.push_back(std::move(out));
+    return left;
+}
+
+std::uint64_t AdaptiveLeaves::assemble(Levels& levels) {
+    std::vector<cl_uint> first{0}, list_base(static_cast<std::size_t>(in_.plan.domain.levels), 0);
+    std::uint64_t entries = levels.lists().size();
+    for (const LevelLeaves& l : checked_) {
+        first.push_back(static_cast<cl_uint>(first.back() + l.count));
+        if (l.lists) entries += l.lists->size();
+    }
+    const std::uint64_t total = first.back();
+    ocl::Buffer<SdfBrick> all = allocate<SdfBrick>(in_.device, total, "the leaves of every level");
+    ocl::Buffer<cl_uint> lists = allocate<cl_uint>(in_.device, entries, "the edit lists of every level");
+    std::uint64_t at = 0;
+    for (const LevelLeaves& l : checked_) {
+        all.copy_from(l.leaves ? *l.leaves : *levels.level_bricks().back(), first[&l - checked_.data()]);
+        list_base[l.level] = static_cast<cl_uint>(l.lists ? at : entries - levels.lists().size());
+        if (l.lists) lists.copy_from(*l.lists, at);
+        at += l.lists ? l.lists->size() : 0;
+    }
+    lists.copy_from(levels.lists(), at);
+    const ocl::Buffer<cl_uint> first_d(in_.device, std::span<const cl_uint>(first), CL_MEM_READ_ONLY);
+    const ocl::Buffer<cl_uint> base_d(in_.device, std::span<const cl_uint>(list_base), CL_MEM_READ_ONLY);
+    ocl::Buffer<cl_uint> positions = allocate<cl_uint>(in_.device, total, "the leaf positions");
+    merged_ = std::make_unique<ocl::Buffer<SdfBrick>>(allocate<SdfBrick>(in_.device, total, "the leaves"));
+    const auto& k = in_.programs;
+    const auto count = static_cast<cl_uint>(total);
+    ocl::set_args(k.rank_k.get(), all, first_d, static_cast<cl_uint>(checked_.size()), count,
+                  static_cast<cl_uint>(in_.plan.finest()), in_.plan.log2b, positions);
+    in_.scheduler.launch(measure::Stage::order, -1, k.rank_k.get(), round_up(total, kGroup1d), kGroup1d);
+    ocl::set_args(k.place_k.get(), all, positions, count, base_d, *merged_);
+    in_.scheduler.launch(measure::Stage::order, -1, k.place_k.get(), round_up(total, kGroup1d), kGroup1d);
+    levels.bytes.lists += lists.bytes();
+    levels.set_lists(std::make_unique<ocl::Buffer<cl_uint>>(std::move(lists)));
+    return total;
+}
+
+void AdaptiveLeaves::keep_lists(int level, std::unique_ptr<ocl::Buffer<cl_uint>> lists) {
+    if (!checked_.empty() && checked_.back().level == level) checked_.back().lists = std::move(lists);
+}
+
+void AdaptiveLeaves::add_finest(std::uint64_t count) {
+    checked_.push_back({in_.plan.finest(), count, nullptr, ocl::Buffer<float>(in_.device, 0),
+                        ocl::Buffer<cl_uint>(in_.device, 0), nullptr});
+}
+
+std::uint64_t AdaptiveLeaves::leaves_of(int level) const {
+    for (const LevelLeaves& l : checked_)
+        if (l.level == level) return l.count;
+    return 0;
+}
+
+std::vector<double> AdaptiveLeaves::check_errors() const {
+    std::vector<double> leaf_errors;
+    for (const LevelLeaves& l : checked_) {
+        const std::vector<float> errors = l.errors.read();
+        const std::vector<cl_uint> passed = l.passed.read();
+        for (std::size_t i = 0; i < errors.size(); ++i)
+            if (passed[i]) leaf_errors.push_back(errors[i]);
+    }
+    return leaf_errors;
+}
+
+}  // namespace sdfbrick::construct::detail

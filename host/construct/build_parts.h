@@ -1,0 +1,326 @@
+// The parts of one BrickBuilder::build call (inside construct/): the plan, the levels, the adaptive
+// check, the leaf evaluation and the report, each owning its own state. BuildInputs is what every
+// part reads: the device and its programs, the settings and plan, the launch recorder, the
+// geometry's edits and mesh pool on the device. docs/construction.md explains the stages.
+#pragma once
+
+#include <CL/cl.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <fmt/format.h>
+#include <glm/glm.hpp>
+
+#include "cl/buffer.h"
+#include "cl/cl_error.h"
+#include "cl/device.h"
+#include "cl/program.h"
+#include "construct/brick_builder.h"
+#include "construct/domain.h"
+#include "construct/edit_deps.h"
+#include "construct/scan.h"
+#include "core/errors.h"
+#include "measure/scheduler.h"
+#include "scene/scene.h"
+#include "sdf_types.h"
+
+namespace sdfbrick::construct::detail {
+
+constexpr std::size_t kGroup1d = 64;
+
+inline std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
+
+// Allocation that turns "does not fit" into a one-line InputError naming the resource.
+template <class T>
+ocl::Buffer<T> allocate(ocl::Device& d, std::size_t count, std::string_view what) {
+    try {
+        return ocl::Buffer<T>(ocl::pooled, d, count);
+    } catch (const ocl::ClError& e) {
+        throw SettingError("leaf_size",
+                           fmt::format("{} needs {} bytes ({} x {} bytes); {} allows at most {} bytes in one buffer and "
+                                       "has {} bytes in all: use a larger leaf_size, fewer samples or a smaller "
+                                       "format ({})",
+                                       what, count * sizeof(T), count, sizeof(T), d.info().name,
+                                       d.info().max_alloc_bytes, d.info().global_mem_bytes, e.what()));
+    }
+}
+
+// A list entry read with the edit it names.
+constexpr std::uint64_t kEntryBytes = sizeof(cl_uint) + sizeof(SdfEdit);
+
+// Rounds a positive double up to the next float (the margins below must not shrink).
+inline float float_up(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) >= x ? f : std::nextafter(f, INFINITY);
+}
+
+// Rounds a double down to the float at or below it.
+inline float float_down(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) <= x ? f : std::nextafter(f, -INFINITY);
+}
+
+// The compiled construction programs of one device (BrickBuilder keeps them).
+struct BuildPrograms {
+    ocl::Program count, subdivide, cull, aabb, order;
+    ocl::Kernel count_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
+    std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
+    struct Stats {  // brick_stats.cl for one brick layout
+        ocl::Program program;
+        ocl::Kernel level, leaf;
+    };
+    std::map<std::string, Stats> stats_by_layout;
+    const Stats& stats(ocl::Device& d, const BrickLayout& layout) {
+        const std::string defines = layout.defines();
+        auto it = stats_by_layout.find(defines);
+        if (it == stats_by_layout.end()) {
+            ocl::Program p = ocl::build_program(d, "brick_stats.cl", defines);
+            ocl::Kernel level = ocl::make_kernel(p, "level_stats"), leaf = ocl::make_kernel(p, "leaf_stats");
+            it = stats_by_layout.emplace(defines, Stats{std::move(p), std::move(level), std::move(leaf)}).first;
+        }
+        return it->second;
+    }
+
+    explicit BuildPrograms(ocl::Device& d)
+        : count(ocl::build_program(d, "brick_count.cl")), subdivide(ocl::build_program(d, "brick_subdivide.cl")),
+          cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
+          order(ocl::build_program(d, "brick_order.cl")),
+          count_k(ocl::make_kernel(count, "brick_count")), subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
+          mark_k(ocl::make_kernel(cull, "cull_mark")),
+          cull_count_k(ocl::make_kernel(cull, "cull_count")),
+          write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
+          split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
+          place_k(ocl::make_kernel(order, "brick_place")) {}
+};
+
+// The thresholds, saturation and margins of one geometry's build (docs/construction.md).
+struct BuildPlan {
+    Domain domain;
+    cl_uint log2b = 2;          // log2 of the branching factor
+    std::size_t per_parent = 64;  // children per parent: B^3
+    double magnitude = 0.0;     // largest |coordinate| of the domain
+    double voxel = 0.0;
+    float band = 0.0f, clamp_c = 0.0f;
+
+    // The keep threshold of a cell of `level`: its half diagonal with margins for float rounding.
+    float threshold(int level) const {
+        return float_up(domain.half_diagonal(level) * (1.0 + 1.0 / 1024.0) + magnitude * std::ldexp(1.0, -16));
+    }
+    // The cull test's radius at `level`: a child's cell plus the apron samples around it.
+    float cull_radius(int level, int apron) const {
+        return float_up(std::sqrt(3.0) * (0.5 * domain.cell_size(level) + (apron - 0.5) * voxel) * (1.0 + 1e-6));
+    }
+    // The saturation the count test of `level` folds with: C where its threshold is below C, else
+    // C + threshold (the wide fold of a coarse level; docs/construction.md, "Sparse coarse levels").
+    // Past the leaves (the evaluation) it is C. Never increases with the level.
+    float saturation(int level) const {
+        if (level >= domain.levels) return clamp_c;
+        const float t = threshold(level);
+        return t < clamp_c ? clamp_c : float_up(double(clamp_c) + double(t));
+    }
+    // A coarse cell whose bound on |F_C - clamp(W)| reaches this cannot be rejected: C minus the
+    // leaf threshold, rounded down with a margin for the kernel's float sums.
+    float reject_slack() const {
+        const double slack = (double(clamp_c) - double(threshold(domain.levels - 1))) * (1.0 - 1.0 / 1024.0);
+        return std::max(0.0f, float_down(slack));
+    }
+
+    // Adaptive leaves: bricks of levels coarsest_leaf .. levels-1 may be leaves. A level-l leaf has
+    // the finest voxel and band times 2^shift(l), and folds with saturation level_clamp[l] (the
+    // finest level's is C). Uniform builds: coarsest_leaf = levels - 1.
+    int coarsest_leaf = 0;
+    float tolerance = 0.0f;
+    std::vector<float> level_clamp;
+    int finest() const { return domain.levels - 1; }
+    int shift(int level) const { return (finest() - level) * static_cast<int>(log2b); }
+    // The saturation that culling at `level` keeps exact: the children's count test, and the
+    // evaluation of this level's bricks (and every finer level's) as leaves.
+    float cull_saturation(int level) const {
+        return std::max(saturation(level + 1), level_clamp[std::max(level, coarsest_leaf)]);
+    }
+};
+
+// The domain (levels as settings ask), then the thresholds and C (and the leaf levels of an adaptive
+// build). Throws InputError for levels that cannot cover the geometry or exceed 2^30 leaf bricks per
+// axis, SettingError for a tolerance below float precision.
+BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s);
+
+// What every part of one build reads.
+struct BuildInputs {
+    BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
+                const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out);
+    ocl::Device& device;
+    BuildPrograms& programs;
+    Scan& scan;
+    const Geometry& geometry;
+    const BuildSettings& settings;
+    const BuildPlan& plan;
+    measure::Scheduler& scheduler;
+    GeometryBuild& out;
+    std::vector<SdfEdit> edits_host;
+    ocl::Buffer<SdfEdit> edits;
+    ocl::Buffer<float> meshes;  // the mesh pool (construct/mesh_pool.h)
+    glm::vec3 origin;
+    ocl::Buffer<cl_uint> empty_uints;
+};
+
+class AdaptiveLeaves;
+
+// Levels 0 .. levels-1 top-down: count -> scan -> subdivide -> cull, from the root's list (every
+// edit) to the leaves' lists; in a split, from the range of the split level's bricks it keeps.
+// Owns the current level's parents and lists, every level's records, and the scratch reused across
+// levels.
+class Levels {
+public:
+    Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive);
+    // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
+    void start();
+    // Runs the levels; stops early when a level keeps nothing. Returns whether the last level was
+    // reached with bricks (then the parents are the leaves). Adaptive builds check each brick of the
+    // leaf levels (AdaptiveLeaves::check_and_split).
+    bool run();
+
+    std::size_t parent_count() const { return parent_count_; }
+    ocl::Buffer<SdfBrick>& parents() { return *parents_; }
+    void set_parents(std::unique_ptr<ocl::Buffer<SdfBrick>> parents) { parents_ = std::move(parents); }
+    // The current lists: the parents' during the loop, the leaves' after it.
+    const ocl::Buffer<cl_uint>& lists() const { return *parent_lists_; }
+    void set_lists(std::unique_ptr<ocl::Buffer<cl_uint>> lists) { parent_lists_ = std::move(lists); }
+    std::unique_ptr<ocl::Buffer<cl_uint>> take_lists() { return std::move(parent_lists_); }
+    // Scratch of at least n per-brick offsets (kept across levels).
+    ocl::Buffer<cl_uint>& offsets(std::size_t n, std::string_view what);
+    // Every level's records (adaptive: its parents); the last is the leaf level's after run().
+    const std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>>& level_bricks() const { return level_bricks_; }
+    std::unique_ptr<ocl::Buffer<SdfBrick>> take_last_level() { return std::move(level_bricks_.back()); }
+    const std::vector<std::uint64_t>& kept() const { return kept_; }                // every level's kept bricks
+    const std::vector<std::uint64_t>& list_entries() const { return list_entries_; }  // every level's list entries
+
+    // Bytes of the build's records, lists and largest scratch (the memory report).
+    struct Bytes {
+        std::uint64_t bricks = 0, lists = 0, scratch = 0;
+    };
+    Bytes bytes;
+
+private:
+    struct CountShape {
+        std::size_t parts = 1;  // work-items per child
+        std::size_t chunk = 0;  // edits staged at once
+    };
+    CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
+    std::uint64_t count_and_scan(int level);
+    void subdivide(int level, std::uint64_t children);
+    void cull(int level, std::uint64_t children);
+    void cull_lists(int level, std::uint64_t children);
+    std::uint64_t keep_subtrees(std::uint64_t children);
+    std::uint64_t resident_items(std::size_t work_group_limit) const;
+    std::uint64_t bits_per_item(std::uint64_t words, cl_kernel kernel, std::string_view name) const;
+    cl_uint level_log2b(int level) const { return level == 0 ? 0u : in_.plan.log2b; }
+    float cell(int level) const { return static_cast<float>(in_.plan.domain.cell_size(level)); }
+
+    BuildInputs& in_;
+    const Subtrees* subtrees_;  // until applied
+    AdaptiveLeaves* adaptive_;  // null for uniform builds
+    std::optional<EditDependencies> deps_;
+    SdfBrick pseudo_{};  // level -1: one parent whose single child (branching 1) is the root
+    std::unique_ptr<ocl::Buffer<SdfBrick>> parents_;  // the current level's parents, then its bricks
+    std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
+    std::size_t parent_count_ = 1;
+    std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;
+    std::vector<std::uint64_t> list_entries_;
+    std::vector<std::uint64_t> kept_;
+    ocl::Buffer<cl_uint> counts_, offsets_, words_, bits_;
+    ocl::Buffer<cl_uint> sources_, kept_words_;  // per cull word: its first parent entry, kept count
+};
+
+// Adaptive builds: each brick of a leaf level (coarsest_leaf .. finest - 1) is checked against the
+// tolerance; those that pass are that level's leaves, the others the next level's parents. After the
+// levels, the leaves of every level are merged into one Morton-ordered list with their edit lists.
+// Owns each level's leaves, check results and lists, and the merged leaves.
+class AdaptiveLeaves {
+public:
+    explicit AdaptiveLeaves(BuildInputs& in) : in_(in) {}
+    // Checks this level's bricks (levels.parents()); the passing ones become leaves, the others stay
+    // as the parents. Returns the parents left.
+    std::uint64_t check_and_split(int level, Levels& levels);
+    // The lists of the last checked level, once the next level's cull has replaced them.
+    void keep_lists(int level, std::unique_ptr<ocl::Buffer<cl_uint>> lists);
+    // The finest level's bricks are leaves, unchecked (nothing is finer): they stay in the levels.
+    void add_finest(std::uint64_t count);
+    // Merges the leaves of every level (levels.lists() becomes the merged lists). Returns the leaf count.
+    std::uint64_t assemble(Levels& levels);
+    // Leaves of a level (0 when none of it are leaves).
+    std::uint64_t leaves_of(int level) const;
+    // The check's worst error of every checked leaf (reads the check results back, for the report).
+    std::vector<double> check_errors() const;
+    const ocl::Buffer<SdfBrick>& merged() const { return *merged_; }
+    std::unique_ptr<ocl::Buffer<SdfBrick>> take_merged() { return std::move(merged_); }
+
+private:
+    struct LevelLeaves {
+        int level = 0;
+        std::uint64_t count = 0;
+        std::unique_ptr<ocl::Buffer<SdfBrick>> leaves;  // null: the finest level's, in the levels' last records
+        ocl::Buffer<float> errors;    // per checked brick of the level
+        ocl::Buffer<cl_uint> passed;  // per checked brick of the level
+        std::unique_ptr<ocl::Buffer<cl_uint>> lists;
+    };
+    BuildInputs& in_;
+    std::vector<LevelLeaves> checked_;  // the checked levels (and the finest), coarsest first
+    std::unique_ptr<ocl::Buffer<SdfBrick>> merged_;
+};
+
+// The leaf evaluation: every leaf's samples into the brick pool, then the leaves' boxes and shifts
+// (out.pool, out.aabbs, out.shifts). Owns the apron masks where leaves share apron samples.
+class LeafEvaluation {
+public:
+    explicit LeafEvaluation(BuildInputs& in) : in_(in) {}
+    // leaves: the leaf records (Morton order); lists: their edit lists. Updates bytes.scratch.
+    void evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl_uint>& lists, std::uint64_t leaf_count,
+                  Levels::Bytes& bytes);
+    // Per leaf, the regions of its samples it evaluates; null when no leaf shares.
+    const ocl::Buffer<cl_uint>* owned() const { return owned_.get(); }
+
+private:
+    struct ApronSharing {
+        ocl::Buffer<cl_uint> neighbours;        // per leaf, 27: the leaf it copies each region from
+        std::optional<ocl::Program> program;   // brick_apron.cl, when sharing is on
+        std::optional<ocl::Kernel> copy;
+    };
+    ApronSharing share_aprons(const ocl::Buffer<SdfBrick>& leaves, std::uint64_t leaf_count, Levels::Bytes& bytes);
+    BuildInputs& in_;
+    std::unique_ptr<ocl::Buffer<cl_uint>> owned_;
+};
+
+// The build's report: bricks, list lengths, work and times per level, memory, and for adaptive
+// builds the check's errors, from counters reduced on the device (kernels/brick_stats.cl, one read).
+class BuildReport {
+public:
+    BuildReport(BuildInputs& in, const Levels& levels, const AdaptiveLeaves* adaptive, const LeafEvaluation& leaves)
+        : in_(in), levels_(levels), adaptive_(adaptive), evaluation_(leaves) {}
+    // Fills in.out's figures; leaves and lists are the final leaf records and their lists.
+    void fill(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl_uint>& lists, std::uint64_t leaf_count);
+
+private:
+    struct Counters {
+        std::vector<std::uint64_t> records, longest, tests;
+        std::uint64_t entries = 0, longest_leaf = 0, entry_flops = 0, flops = 0, evaluations = 0;
+    };
+    Counters count_on_device(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl_uint>& lists,
+                             std::uint64_t leaf_count);
+    void report_flops(std::uint64_t leaf_count, const Counters& c);
+    void add_work(measure::Stage stage, std::uint64_t evaluations, std::uint64_t bytes);
+    BuildInputs& in_;
+    const Levels& levels_;
+    const AdaptiveLeaves* adaptive_;
+    const LeafEvaluation& evaluation_;
+};
+
+}  // namespace sdfbrick::construct::detail
