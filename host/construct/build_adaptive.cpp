@@ -15,14 +15,19 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     const std::size_t group = std::min<std::size_t>(in_.settings.eval_group, layout.samples_per_brick());
     const ocl::Program program = ocl::build_program(in_.device, "brick_check.cl", layout.defines());
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_check");
-    LevelLeaves out{level, 0, nullptr, allocate<float>(in_.device, n, "the check errors"),
-                    allocate<cl_uint>(in_.device, n, "the check results"), nullptr};
+    LevelLeaves out{level,
+                    0,
+                    nullptr,
+                    allocate<float>(in_.device, n, "the check errors"),
+                    allocate<cl_uint>(in_.device, n, "the check results"),
+                    nullptr};
     const float band = std::ldexp(in_.plan.band, in_.plan.shift(level));
-    ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), in_.origin.x, in_.origin.y, in_.origin.z,
-                  static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level))), in_.plan.level_clamp[level], band,
-                  layout.quantise_scale(band), layout.dequantise_scale(band), in_.plan.tolerance, in_.plan.band, out.errors,
-                  out.passed,
-                  ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)}, ocl::LocalMemory{group * sizeof(float)});
+    ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), in_.origin.x, in_.origin.y,
+                  in_.origin.z, static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level))),
+                  in_.plan.level_clamp[level], band, layout.quantise_scale(band), layout.dequantise_scale(band),
+                  in_.plan.tolerance, in_.plan.band, out.errors, out.passed,
+                  ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)},
+                  ocl::LocalMemory{group * sizeof(float)});
     in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
     ocl::Buffer<cl_uint>& offsets = levels.offsets(n, "the leaf offsets");
     out.count = in_.scan.exclusive(out.passed, offsets, n, in_.scheduler, measure::Stage::check, level);
@@ -31,7 +36,8 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(
         allocate<SdfBrick>(in_.device, n - out.count, fmt::format("the parents of level {}", level + 1)));
     const auto& k = in_.programs;
-    ocl::set_args(k.split_k.get(), levels.parents(), static_cast<cl_uint>(n), out.passed, offsets, *out.leaves, *parents);
+    ocl::set_args(k.split_k.get(), levels.parents(), static_cast<cl_uint>(n), out.passed, offsets, *out.leaves,
+                  *parents);
     in_.scheduler.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
     levels.bytes.bricks += out.leaves->bytes() + parents->bytes();
     levels.set_parents(std::move(parents));

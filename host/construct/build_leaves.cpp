@@ -13,35 +13,38 @@ void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Bu
     const std::size_t samples3 = layout.samples_per_brick();
     in_.out.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
         in_.device, leaf_count * layout.brick_bytes(), fmt::format("the brick pool ({} bricks)", leaf_count)));
-    in_.out.aabbs = std::make_unique<ocl::Buffer<SdfBounds>>(allocate<SdfBounds>(in_.device, leaf_count, "the brick AABBs"));
-    in_.out.shifts = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(in_.device, leaf_count, "the brick shifts"));
+    in_.out.aabbs =
+        std::make_unique<ocl::Buffer<SdfBounds>>(allocate<SdfBounds>(in_.device, leaf_count, "the brick AABBs"));
+    in_.out.shifts =
+        std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(in_.device, leaf_count, "the brick shifts"));
     if (leaf_count == 0) return;
     const auto lanes = static_cast<std::size_t>(in_.settings.lanes(in_.device.info()));
     const std::size_t group = std::min<std::size_t>(in_.settings.eval_group, (samples3 + lanes - 1) / lanes);
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
     const double mean_list = in_.settings.cull ? static_cast<double>(lists.size()) / static_cast<double>(leaf_count)
-                                     : static_cast<double>(in_.edits_host.size());
+                                               : static_cast<double>(in_.edits_host.size());
     // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
     // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
     const bool hoist = mean_list >= BuildSettings::kLongList;
-    const bool skip_far = hoist && in_.settings.skip_far && std::any_of(in_.edits_host.begin(), in_.edits_host.end(), [](const SdfEdit& e) {
-        return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
-               (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
-    });
+    const bool skip_far = hoist && in_.settings.skip_far &&
+                          std::any_of(in_.edits_host.begin(), in_.edits_host.end(), [](const SdfEdit& e) {
+                              return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
+                                     (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
+                          });
     const ocl::Program program = ocl::build_program(
         in_.device, "brick_evaluate.cl",
         fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={}", layout.defines(),
-                    lanes, per_item, hoist ? 1 : 0, in_.settings.apron_share_edits > 0 ? 1 : 0,
-                    skip_far ? 1 : 0));
+                    lanes, per_item, hoist ? 1 : 0, in_.settings.apron_share_edits > 0 ? 1 : 0, skip_far ? 1 : 0));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = in_.plan.domain.levels - 1;
     const ocl::Buffer<float> level_clamp(in_.device, std::span<const float>(in_.plan.level_clamp), CL_MEM_READ_ONLY);
     const auto finest = static_cast<cl_uint>(in_.plan.finest());
     const ApronSharing apron = share_aprons(leaves, leaf_count, bytes);
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, lists, leaves, owned_ ? *owned_ : in_.empty_uints, in_.origin.x,
-                  in_.origin.y, in_.origin.z,
-                  static_cast<float>(in_.plan.voxel), level_clamp, in_.plan.band, layout.quantise_scale(in_.plan.band), finest,
-                  in_.plan.log2b, *in_.out.pool, ocl::LocalMemory{static_cast<std::size_t>(in_.settings.chunk) * sizeof(SdfEdit)}, static_cast<cl_uint>(in_.settings.chunk));
+                  in_.origin.y, in_.origin.z, static_cast<float>(in_.plan.voxel), level_clamp, in_.plan.band,
+                  layout.quantise_scale(in_.plan.band), finest, in_.plan.log2b, *in_.out.pool,
+                  ocl::LocalMemory{static_cast<std::size_t>(in_.settings.chunk) * sizeof(SdfEdit)},
+                  static_cast<cl_uint>(in_.settings.chunk));
     in_.scheduler.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
     if (apron.copy) {
         ocl::set_args(apron.copy->get(), *owned_, apron.neighbours, *in_.out.pool);
@@ -50,7 +53,7 @@ void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Bu
     ocl::set_args(in_.programs.aabb_k.get(), leaves, static_cast<cl_uint>(leaf_count), in_.origin.x, in_.origin.y,
                   in_.origin.z, in_.out.leaf_size, finest, in_.plan.log2b, *in_.out.aabbs, *in_.out.shifts);
     in_.scheduler.launch(measure::Stage::aabb, leaf_level, in_.programs.aabb_k.get(), round_up(leaf_count, kGroup1d),
-                      kGroup1d);
+                         kGroup1d);
 }
 
 // With sharing on, which regions of its samples each leaf evaluates (owned_): its interior and the
@@ -67,13 +70,14 @@ LeafEvaluation::ApronSharing LeafEvaluation::share_aprons(const ocl::Buffer<SdfB
     ocl::Buffer<cl_ulong> keys = allocate<cl_ulong>(in_.device, leaf_count, "the leaf keys");
     bytes.scratch = std::max<std::uint64_t>(bytes.scratch, owned_->bytes() + a.neighbours.bytes() + keys.bytes());
     a.program.emplace(ocl::build_program(in_.device, "brick_apron.cl", in_.settings.layout().defines()));
-    const ocl::Kernel keys_k = ocl::make_kernel(*a.program, "brick_keys"), owned = ocl::make_kernel(*a.program, "brick_owned");
+    const ocl::Kernel keys_k = ocl::make_kernel(*a.program, "brick_keys"),
+                      owned = ocl::make_kernel(*a.program, "brick_owned");
     const auto count = static_cast<cl_uint>(leaf_count), finest = static_cast<cl_uint>(in_.plan.finest());
     const int leaf_level = in_.plan.domain.levels - 1;
     ocl::set_args(keys_k.get(), leaves, count, finest, in_.plan.log2b, keys);
     in_.scheduler.launch(measure::Stage::apron, leaf_level, keys_k.get(), round_up(leaf_count, kGroup1d), kGroup1d);
-    ocl::set_args(owned.get(), leaves, keys, count, finest, in_.plan.log2b, static_cast<cl_uint>(share_edits),
-                  *owned_, a.neighbours);
+    ocl::set_args(owned.get(), leaves, keys, count, finest, in_.plan.log2b, static_cast<cl_uint>(share_edits), *owned_,
+                  a.neighbours);
     in_.scheduler.launch(measure::Stage::apron, leaf_level, owned.get(), round_up(leaf_count, kGroup1d), kGroup1d);
     a.copy.emplace(ocl::make_kernel(*a.program, "brick_apron"));
     return a;

@@ -10,8 +10,15 @@
 namespace sdfbrick::construct::detail {
 
 Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive)
-    : in_(in), subtrees_(subtrees), adaptive_(adaptive), counts_(in.device, 0), offsets_(in.device, 0),
-      words_(in.device, 0), bits_(in.device, 0), sources_(in.device, 0), kept_words_(in.device, 0) {}
+    : in_(in),
+      subtrees_(subtrees),
+      adaptive_(adaptive),
+      counts_(in.device, 0),
+      offsets_(in.device, 0),
+      words_(in.device, 0),
+      bits_(in.device, 0),
+      sources_(in.device, 0),
+      kept_words_(in.device, 0) {}
 
 // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
 void Levels::start() {
@@ -32,7 +39,6 @@ void Levels::start() {
     }
 }
 
-
 bool Levels::run() {
     for (int level = 0; level < in_.plan.domain.levels; ++level) {
         std::uint64_t children = count_and_scan(level);
@@ -45,9 +51,9 @@ bool Levels::run() {
             children = keep_subtrees(children);
             subtrees_ = nullptr;
         }
-        bytes.scratch = std::max<std::uint64_t>(bytes.scratch, counts_.bytes() + offsets_.bytes() + words_.bytes() +
-                                                                     bits_.bytes() + sources_.bytes() +
-                                                                     kept_words_.bytes());
+        bytes.scratch =
+            std::max<std::uint64_t>(bytes.scratch, counts_.bytes() + offsets_.bytes() + words_.bytes() + bits_.bytes() +
+                                                       sources_.bytes() + kept_words_.bytes());
         kept_.push_back(children);
         parent_count_ = children;
         if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0)
@@ -61,12 +67,11 @@ bool Levels::run() {
     return complete;
 }
 
-
 // The count stage's work-group: BuildSettings::count_parts work-items per child. Automatic: on GPUs
 // as many as keep the level within resident_items (the top levels: long lists folded by few
-// work-groups, bound by latency), where the values fit in __local memory. Edits are staged in chunks of the parents' mean list, rounded up to 16, up to 256 (fewer
-// barriers) as local memory allows (a larger chunk than lists need costs occupancy). Neither
-// changes a bit: the fold is in list order either way.
+// work-groups, bound by latency), where the values fit in __local memory. Edits are staged in chunks of the parents'
+// mean list, rounded up to 16, up to 256 (fewer barriers) as local memory allows (a larger chunk than lists need costs
+// occupancy). Neither changes a bit: the fold is in list order either way.
 Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_list) const {
     // A staged edit: its prepared form (no larger than SdfEdit), its excess terms and fold parameters.
     constexpr std::size_t kStaged = sizeof(SdfEdit) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
@@ -80,9 +85,10 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     if (in_.settings.count_parts > 0) {
         shape.parts = static_cast<std::size_t>(in_.settings.count_parts);
         if (!fits(shape.parts))
-            throw SettingError("count_parts", fmt::format("count_parts {} does not fit brick_count's work-group on {} "
-                                                          "({} work-items, {} bytes of local memory)",
-                                                          in_.settings.count_parts, in_.device.info().name, limit, local));
+            throw SettingError("count_parts",
+                               fmt::format("count_parts {} does not fit brick_count's work-group on {} "
+                                           "({} work-items, {} bytes of local memory)",
+                                           in_.settings.count_parts, in_.device.info().name, limit, local));
     } else if (in_.device.info().type == "gpu") {
         while (shape.parts * 2 <= kMaxParts && fits(shape.parts * 2) &&
                parent_count_ * children * shape.parts * 2 <= resident)
@@ -104,14 +110,14 @@ std::uint64_t Levels::count_and_scan(int level) {
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(in_.device, parent_count_, "the child counts");
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(in_.device, parent_count_, "the child offsets");
     const std::size_t values = shape.parts > 1 ? shape.chunk * per_parent : 1;
-    ocl::set_args(in_.programs.count_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, lb, in_.origin.x, in_.origin.y, in_.origin.z,
-                  cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level), in_.plan.reject_slack(),
-                  static_cast<float>(in_.plan.magnitude), counts_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
-                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
-                  static_cast<cl_uint>(shape.chunk),
+    ocl::set_args(in_.programs.count_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, lb, in_.origin.x,
+                  in_.origin.y, in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c,
+                  in_.plan.saturation(level), in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude), counts_,
+                  ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
+                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, static_cast<cl_uint>(shape.chunk),
                   ocl::LocalMemory{values * sizeof(float)}, ocl::LocalMemory{per_parent * sizeof(cl_uint)});
-    in_.scheduler.launch(measure::Stage::count, level, in_.programs.count_k.get(), parent_count_ * per_parent * shape.parts,
-                      per_parent * shape.parts);
+    in_.scheduler.launch(measure::Stage::count, level, in_.programs.count_k.get(),
+                         parent_count_ * per_parent * shape.parts, per_parent * shape.parts);
     const std::uint64_t children =
         in_.scan.exclusive(counts_, offsets_, parent_count_, in_.scheduler, measure::Stage::scan, level);
     // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count
@@ -120,12 +126,14 @@ std::uint64_t Levels::count_and_scan(int level) {
     const double projected = static_cast<double>(children) * std::pow(double(in_.settings.branching), 2.0 * remaining);
     const double pool_projected = projected * double(in_.settings.layout().brick_bytes());
     if (pool_projected > 4.0 * static_cast<double>(in_.device.info().max_alloc_bytes))
-        throw SettingError("leaf_size", fmt::format(
-            "leaf_size {} is too small for geometry \"{}\" on {}: level {} already has {} bricks, which "
-            "projects to about {:.3g} leaf bricks and a brick pool of {:.3g} bytes; the device allocates at most "
-            "{} bytes at once: use a larger leaf_size",
-            in_.settings.leaf_size, in_.geometry.name, in_.device.info().name, level, children, projected, pool_projected,
-            in_.device.info().max_alloc_bytes));
+        throw SettingError(
+            "leaf_size",
+            fmt::format(
+                "leaf_size {} is too small for geometry \"{}\" on {}: level {} already has {} bricks, which "
+                "projects to about {:.3g} leaf bricks and a brick pool of {:.3g} bytes; the device allocates at most "
+                "{} bytes at once: use a larger leaf_size",
+                in_.settings.leaf_size, in_.geometry.name, in_.device.info().name, level, children, projected,
+                pool_projected, in_.device.info().max_alloc_bytes));
     return children;
 }
 
@@ -175,11 +183,13 @@ void Levels::cull_lists(int level, std::uint64_t children) {
     const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
     const std::size_t global = round_up(children, kGroup1d);
     const auto n = static_cast<cl_uint>(children);
-    const std::uint64_t total_words = in_.scan.exclusive(words_, words_, children, in_.scheduler, measure::Stage::cull, level);
+    const std::uint64_t total_words =
+        in_.scan.exclusive(words_, words_, children, in_.scheduler, measure::Stage::cull, level);
     if (total_words > 0xffffffffu / 32)
-        throw InputError(fmt::format("level {} inherits {} words of edit-list bits, more than one build handles "
-                                     "(2^27): use a larger brick size",
-                                     level, total_words));
+        throw InputError(
+            fmt::format("level {} inherits {} words of edit-list bits, more than one build handles "
+                        "(2^27): use a larger brick size",
+                        level, total_words));
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(in_.device, total_words, "the cull bit sets");
     if (sources_.size() < total_words) sources_ = allocate<cl_uint>(in_.device, total_words, "the cull word sources");
     if (total_words > 0) {
@@ -190,23 +200,24 @@ void Levels::cull_lists(int level, std::uint64_t children) {
                       static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                       ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
         in_.scheduler.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words * 32 / span, kGroup1d),
-                          kGroup1d);
+                             kGroup1d);
     }
     const ocl::Buffer<cl_uint>& dep_offsets = deps_ ? deps_->offsets : in_.empty_uints;
     const ocl::Buffer<cl_uint>& dep_indices = deps_ ? deps_->indices : in_.empty_uints;
-    if (kept_words_.size() < total_words + 1) kept_words_ = allocate<cl_uint>(in_.device, total_words + 1, "the cull kept counts");
-    ocl::set_args(k.cull_count_k.get(), in_.edits, parent_lists, bricks, n, static_cast<cl_uint>(total_words), words_, bits_,
-                  static_cast<cl_uint>(deps_ ? 1 : 0), dep_offsets, dep_indices, kept_words_);
+    if (kept_words_.size() < total_words + 1)
+        kept_words_ = allocate<cl_uint>(in_.device, total_words + 1, "the cull kept counts");
+    ocl::set_args(k.cull_count_k.get(), in_.edits, parent_lists, bricks, n, static_cast<cl_uint>(total_words), words_,
+                  bits_, static_cast<cl_uint>(deps_ ? 1 : 0), dep_offsets, dep_indices, kept_words_);
     in_.scheduler.launch(measure::Stage::cull, level, k.cull_count_k.get(), global, kGroup1d);
     const std::uint64_t entries =
         in_.scan.exclusive(kept_words_, kept_words_, total_words + 1, in_.scheduler, measure::Stage::cull, level);
     auto lists = std::make_unique<ocl::Buffer<cl_uint>>(
         allocate<cl_uint>(in_.device, entries, fmt::format("the edit lists of level {}", level)));
     const std::uint64_t span = bits_per_item(total_words, k.write_k.get(), "cull_write");
-    ocl::set_args(k.write_k.get(), parent_lists, bricks, n, static_cast<cl_uint>(total_words), static_cast<cl_uint>(span),
-                  words_, bits_, sources_, kept_words_, *lists);
+    ocl::set_args(k.write_k.get(), parent_lists, bricks, n, static_cast<cl_uint>(total_words),
+                  static_cast<cl_uint>(span), words_, bits_, sources_, kept_words_, *lists);
     in_.scheduler.launch(measure::Stage::cull, level, k.write_k.get(),
-                      round_up(std::max<std::uint64_t>(total_words * 32 / span, children), kGroup1d), kGroup1d);
+                         round_up(std::max<std::uint64_t>(total_words * 32 / span, children), kGroup1d), kGroup1d);
     bytes.lists += lists->bytes();
     list_entries_.push_back(entries);
     if (adaptive_) adaptive_->keep_lists(level - 1, std::move(parent_lists_));
@@ -219,8 +230,8 @@ std::uint64_t Levels::keep_subtrees(std::uint64_t children) {
     const auto [first, end] = subtrees_->pick(records);
     if (first > end || end > children)
         throw std::logic_error(fmt::format("subtrees: range [{}, {}) of {} bricks", first, end, children));
-    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(
-        in_.device, std::span<const SdfBrick>(records).subspan(first, end - first));
+    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(in_.device,
+                                                       std::span<const SdfBrick>(records).subspan(first, end - first));
     return end - first;
 }
 

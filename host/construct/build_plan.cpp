@@ -27,8 +27,8 @@ void plan_adaptive(BuildPlan& p, const Aabb& box, const BuildSettings& s, double
                                                     s.tolerance, p.magnitude, precision));
     if (p.domain.cells_per_axis(p.finest()) > (std::int64_t{1} << 21))
         throw SettingError("leaf_size", fmt::format("an adaptive build allows at most 2^21 finest bricks per axis; "
-                                                    "leaf_size {} needs {}", s.leaf_size,
-                                                    p.domain.cells_per_axis(p.finest())));
+                                                    "leaf_size {} needs {}",
+                                                    s.leaf_size, p.domain.cells_per_axis(p.finest())));
     const glm::dvec3 extent = box.hi - box.lo;
     const double largest = s.max_leaf_size > 0.0 ? s.max_leaf_size : 0.25 * std::max({extent.x, extent.y, extent.z});
     p.coarsest_leaf = p.finest();
@@ -49,7 +49,8 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     if (s.levels > 0) {
         if (s.levels < p.domain.levels)
             throw SettingError("levels", fmt::format("levels {} cannot cover geometry \"{}\" at leaf_size {}: it needs "
-                                                     "at least {}", s.levels, g.name, s.leaf_size, p.domain.levels));
+                                                     "at least {}",
+                                                     s.levels, g.name, s.leaf_size, p.domain.levels));
         const int bits_per_level = s.branching == 4 ? 2 : 1;
         if ((s.levels - 1) * bits_per_level > 30)
             throw SettingError("levels", fmt::format("levels {} with branching {} exceeds 2^30 leaf bricks per axis",
@@ -59,7 +60,8 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     p.log2b = s.branching == 4 ? 2 : 1;
     p.per_parent = std::size_t{1} << (3 * p.log2b);
     const glm::dvec3 lo = p.domain.origin, hi = p.domain.origin + p.domain.side();
-    p.magnitude = std::max({glm::abs(lo).x, glm::abs(lo).y, glm::abs(lo).z, std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+    p.magnitude =
+        std::max({glm::abs(lo).x, glm::abs(lo).y, glm::abs(lo).z, std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
     p.voxel = s.voxel();
     p.band = static_cast<float>(s.band_voxels * p.voxel);
     const double blend = s.guard * largest_blend(g);
@@ -70,11 +72,16 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     return p;
 }
 
-
-BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g,
-                         const BuildSettings& s, const BuildPlan& plan, measure::Scheduler& scheduler,
-                         GeometryBuild& out)
-    : device(d), programs(programs), scan(scan), geometry(g), settings(s), plan(plan), scheduler(scheduler), out(out),
+BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
+                         const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out)
+    : device(d),
+      programs(programs),
+      scan(scan),
+      geometry(g),
+      settings(s),
+      plan(plan),
+      scheduler(scheduler),
+      out(out),
       edits_host(to_device(g)),
       edits(d, edits_host, CL_MEM_READ_ONLY),
       meshes(d, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d, scheduler)), CL_MEM_READ_ONLY),

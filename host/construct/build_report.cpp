@@ -10,7 +10,7 @@ namespace sdfbrick::construct::detail {
 // The report's counters of the records and lists, reduced on the device (kernels/brick_stats.cl):
 // every level's and the leaves' partials land in one buffer that one read brings back.
 BuildReport::Counters BuildReport::count_on_device(const ocl::Buffer<SdfBrick>& leaves,
-                                                  const ocl::Buffer<cl_uint>& lists, std::uint64_t leaf_count) {
+                                                   const ocl::Buffer<cl_uint>& lists, std::uint64_t leaf_count) {
     static constexpr std::size_t kGroup = 64, kGroups = 64;  // STATS_GROUP; work-groups per reduction at most
     const auto groups = [](std::uint64_t n) { return std::min<std::size_t>((n + kGroup - 1) / kGroup, kGroups); };
     const std::size_t levels = levels_.level_bricks().size(), leaf_base = 2 * kGroups * levels;
@@ -33,8 +33,8 @@ BuildReport::Counters BuildReport::count_on_device(const ocl::Buffer<SdfBrick>& 
         for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = static_cast<cl_uint>(edit_flops(in_.edits_host[i]));
         const ocl::Buffer<cl_uint> flops_d(in_.device, std::span<const cl_uint>(flops), CL_MEM_READ_ONLY);
         ocl::set_args(k.leaf.get(), leaves, static_cast<cl_uint>(leaf_count), lists, flops_d,
-                      evaluation_.owned() ? *evaluation_.owned() : in_.empty_uints, static_cast<cl_uint>(evaluation_.owned() ? 1 : 0), partial,
-                      static_cast<cl_uint>(leaf_base));
+                      evaluation_.owned() ? *evaluation_.owned() : in_.empty_uints,
+                      static_cast<cl_uint>(evaluation_.owned() ? 1 : 0), partial, static_cast<cl_uint>(leaf_base));
         ocl::enqueue(in_.device, k.leaf.get(), "leaf_stats", leaf_groups * kGroup, kGroup);
     }
     const std::vector<cl_ulong> p = partial.read();
@@ -75,8 +75,10 @@ void BuildReport::fill(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl
         if (adaptive_) r.leaves = adaptive_->leaves_of(r.level);
         r.edit_entries = l < levels_.list_entries().size() ? levels_.list_entries()[l] : 0;
         r.max_edits = static_cast<std::uint32_t>(c.longest[l]);
-        const std::uint64_t counted = prev_entries * (l == 0 ? 1 : in_.plan.per_parent);  // every candidate child of every parent
-        add_work(measure::Stage::count, counted, prev_records * (sizeof(SdfBrick) + sizeof(cl_uint)) + prev_entries * kEntryBytes);
+        const std::uint64_t counted =
+            prev_entries * (l == 0 ? 1 : in_.plan.per_parent);  // every candidate child of every parent
+        add_work(measure::Stage::count, counted,
+                 prev_records * (sizeof(SdfBrick) + sizeof(cl_uint)) + prev_entries * kEntryBytes);
         std::uint64_t culled = 0;
         if (in_.settings.cull) {  // cull: each kept child tests its parent's list
             culled = l == 0 ? in_.edits_host.size() * records : prev_tests;
