@@ -39,23 +39,26 @@ struct HostScene {
     double readback_ms = 0.0;  // host wall time of reading leaves and pools back
 };
 
+// The bricks on the first device that --device selects, or shared by the devices with --devices split
+// (merged on the home device), then read back to the host.
 HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global) {
-    apply_global_options(global);
+    apply_global_options(global, true);
     const Scene file_scene = load_scene(o.file);
     HostScene h;
     h.scene = scene_at(file_scene, o.time.value_or(file_scene.time));
-    ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
-    ocl::Device& device = *devices.begin();
+    const std::unique_ptr<RunDevices> devices = open_run_devices(global);
     const TuningChoice tuning = open_tuning(global);
-    h.device = device.info().name;
-    pipeline::Executor executor(device);
     pipeline::Job job;
     job.work = pipeline::Work::construct;
     job.settings = tune::settings_for(o.flags.resolve(), std::nullopt, tuning.get(), o.flags.given());
     job.brick_digests = false;
     job.image = false;
-    const pipeline::Execution e = executor.run(h.scene, job);
+    job.rates = devices->rates ? &*devices->rates : nullptr;
+    const bool split = devices->placement == pipeline::Placement::split;
+    const pipeline::Execution e =
+        devices->executor.run(h.scene, job, split ? pipeline::Placement::split : pipeline::Placement::whole);
     const pipeline::Run& run = e.job();
+    h.device = e.home_lane().device.name;
     h.settings = e.home_lane().settings.build;
     const auto start = std::chrono::steady_clock::now();
     for (const construct::GeometryBuild& b : run.bricks.builds) {

@@ -50,7 +50,7 @@ std::string setting_error_line(const CLI::App& app, const SettingError& e) {
 void apply_global_options(const GlobalOptions& global, bool splits) {
     if (global.kernel_dir) ocl::set_kernel_dir(std::filesystem::path(*global.kernel_dir));
     if (placement(global) == pipeline::Placement::split && !splits)
-        throw InputError("--devices split: only build and render share one job among devices");
+        throw InputError("--devices split: only build, render, export and sample share one job among devices");
 }
 
 TuningChoice open_tuning(const GlobalOptions& global) {

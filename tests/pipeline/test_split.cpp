@@ -155,6 +155,21 @@ TEST(PipelineSplit, CompareAndReferenceEqualOneDevice) {
     }
 }
 
+// sample reads the merged bricks of a split back: the same distances as one device's.
+TEST(PipelineSplit, SampleEqualsOneDevice) {
+    const fs::path dir = test::temp_dir("split_sample");
+    const std::string env = two_devices(dir, "SDFBRICK_RATES=off");
+    std::string points = "x,y,z\n";
+    for (int i = 0; i < 64; ++i) points += fmt::format("{},{},{}\n", -1.6 + 0.05 * i, 0.3 - 0.01 * i, 0.02 * (i % 7));
+    test::write_text(dir / "p.csv", points);
+    const std::string args = "sample " + scene_path("drops") + " --brick-size 0.25 --points " + (dir / "p.csv").string();
+    const CliRun one = test::sdfbrick("--device 0 " + args + " -o " + (dir / "one.csv").string(), env);
+    ASSERT_EQ(one.status, 0) << one.err;
+    const CliRun split = test::sdfbrick("--device cpu --devices split " + args + " -o " + (dir / "split.csv").string(), env);
+    ASSERT_EQ(split.status, 0) << split.err;
+    EXPECT_EQ(read_file(dir / "split.csv"), read_file(dir / "one.csv"));
+}
+
 // The first run splits by the static estimate and stores each device's measured rate; a store that
 // says device 1 is three times faster moves three quarters of the work there, one that says it is a
 // hundred times faster all of it.
@@ -326,7 +341,7 @@ TEST(PipelineSplit, BadInputNamesTheFlag) {
     EXPECT_NE(twice.err.find("--device: device 0"), std::string::npos) << twice.err;
     const CliRun other = test::sdfbrick("--device cpu --devices split eval " + scene_path("spheres") + " --size 8", env);
     EXPECT_EQ(other.status, 2);
-    EXPECT_NE(other.err.find("only build and render"), std::string::npos) << other.err;
+    EXPECT_NE(other.err.find("only build, render, export and sample"), std::string::npos) << other.err;
 }
 
 }  // namespace
