@@ -124,11 +124,12 @@ std::string bytes_text(std::uint64_t b) {
 
 WallBreakdown wall_breakdown(const Run& run) {
     return {run.wall_ms.median, run.construct_wall_ms.median, run.bvh_wall_ms.median, run.trace_wall_ms.median,
-            run.digest_wall_ms.median};
+            run.digest_wall_ms.median, run.setup_ms};
 }
 
 nlohmann::json to_json(const WallBreakdown& w) {
-    return {{"total", w.total}, {"construct", w.construct}, {"bvh", w.bvh}, {"trace", w.trace}, {"digests", w.digests}};
+    return {{"total", w.total}, {"construct", w.construct}, {"bvh", w.bvh}, {"trace", w.trace}, {"digests", w.digests},
+            {"setup_once", w.setup}};
 }
 
 std::string to_text(const WallBreakdown& w) {
@@ -136,7 +137,8 @@ std::string to_text(const WallBreakdown& w) {
     for (const auto& [name, ms] : {std::pair{"construct", w.construct}, std::pair{"bvh", w.bvh},
                                    std::pair{"trace", w.trace}, std::pair{"digests", w.digests}})
         if (ms > 0.0) parts += fmt::format("{}{} {:.3f}", parts.empty() ? "" : ", ", name, ms);
-    return fmt::format("wall {:.3f} ms a capture ({})", w.total, parts);
+    return fmt::format("wall {:.3f} ms a capture ({}){}", w.total, parts,
+                       w.setup > 0.0 ? fmt::format(", setup {:.3f} ms once", w.setup) : "");
 }
 
 // ---- construction ----

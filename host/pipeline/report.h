@@ -31,9 +31,10 @@ using Memory = std::map<std::string, std::uint64_t>;  // bytes per resource
 // device time, what explains a gap between the two.
 struct WallBreakdown {
     double total = 0.0, construct = 0.0, bvh = 0.0, trace = 0.0, digests = 0.0;
+    double setup = 0.0;  // once, before the first pass: Run::setup_ms
 };
 WallBreakdown wall_breakdown(const Run& run);
-// {"total", "construct", "bvh", "trace", "digests"} in ms
+// {"total", "construct", "bvh", "trace", "digests", "setup_once"} in ms
 nlohmann::json to_json(const WallBreakdown& w);
 // "wall 8.36 ms a capture (construct 6.86, digests 1.50)": the parts that took time
 std::string to_text(const WallBreakdown& w);

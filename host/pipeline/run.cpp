@@ -67,10 +67,22 @@ BrickDigests brick_digests(const render::SceneBricks& b, ocl::DeviceDigest& dige
     return {bricks.hex(), lists.hex()};
 }
 
+// The builders and tracer the work needs, made before the first pass (not inside a capture).
+double Lane::prepare(Work work) {
+    double ms = 0.0;
+    timed(ms, [&] {
+        builder();
+        if (work != Work::construct) bvh();
+        if (work == Work::trace) tracer();
+    });
+    return ms;
+}
+
 Run Lane::run(const Scene& scene, const RunSpec& spec) {
+    const double setup = prepare(spec.work);
     std::optional<SdfCamera> camera;
     if (spec.work == Work::trace) camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
-    return detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
+    Run run = detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
         measure::Scheduler scheduler(device());
         Pass p;
         p.bricks = timed(p.construct_wall, [&] { return render::build_scene_bricks(builder(), scene, spec.build, scheduler); });
@@ -84,16 +96,22 @@ Run Lane::run(const Scene& scene, const RunSpec& spec) {
         if (camera) trace_pass(tracer(), p, scene, p.bricks, *camera, spec, scheduler, last);
         return finish(p, scheduler);
     });
+    run.setup_ms = setup;
+    return run;
 }
 
 Run Lane::trace(const Scene& scene, const render::SceneBricks& bricks, const RunSpec& spec) {
     const SdfCamera camera = make_camera(scene.camera, spec.trace.width, spec.trace.height);
-    return detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
+    double setup = 0.0;
+    timed(setup, [&] { tracer(); });
+    Run run = detail::repeat_passes(spec.warmup, spec.repeat, [&](bool last) {
         measure::Scheduler scheduler(device());
         Pass p;
         trace_pass(tracer(), p, scene, bricks, camera, spec, scheduler, last);
         return finish(p, scheduler);
     });
+    run.setup_ms = setup;
+    return run;
 }
 
 }  // namespace sdfbrick::pipeline

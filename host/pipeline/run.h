@@ -46,6 +46,9 @@ struct Run {
     // the trace (with its counters and any read-back), and the digests; the rest of wall_ms is the
     // pass's own bookkeeping.
     measure::Spread construct_wall_ms, bvh_wall_ms, trace_wall_ms, digest_wall_ms;
+    // Wall time of making the lane's builders and tracer before the first pass (their programs built
+    // or loaded from the cache), once per lane: 0 when the lane had them from an earlier run.
+    double setup_ms = 0.0;
     std::string brick_digest, list_digest;       // with brick_digests: output_digest / list_digest over the geometries
     std::string trace_digest;                    // of the traced hit and aux buffers ("" when not traced)
     bool identical = true;  // every capture gave the same brick count, digests and traced image
@@ -64,6 +67,8 @@ public:
     render::BrickTracer& tracer();
     ocl::DeviceDigest& digest();                 // made on first use
     reference::ReferenceTracer& reference();    // made on first use
+    // Makes what `work` needs (builder; + BVH builder; + tracer) if not made yet; returns its wall ms.
+    double prepare(Work work);
 
     // Throws InputError for settings the device refuses, std::invalid_argument for warmup < 0 or
     // repeat < 1.

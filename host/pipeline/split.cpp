@@ -6,6 +6,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <numeric>
 #include <span>
 #include <stdexcept>
@@ -306,32 +307,41 @@ std::vector<Part<Result>> run_shared(std::vector<SplitLane>& lanes, const std::v
         first_round = false;
         pending.clear();
         std::vector<std::vector<Part<Result>>> got(lanes.size());
+        const auto work = [&](std::size_t i) {
+            for (Interval iv : assigned[i]) {
+                if (!lanes[i].alive()) {
+                    lost[i].push_back(iv);
+                    continue;
+                }
+                if (iv.width() > lanes[i].cap) {  // the rest goes to the next round
+                    lost[i].push_back({iv.f0 + lanes[i].cap, iv.f1});
+                    iv.f1 = iv.f0 + lanes[i].cap;
+                }
+                const auto t0 = Clock::now();
+                try {
+                    got[i].push_back({iv, fn(lanes[i], iv), i});
+                    report.devices[i].done += iv.width();
+                } catch (const std::exception& e) {
+                    could_not_run(lanes[i], report.devices[i], iv, e);
+                    lost[i].push_back(iv);
+                }
+                report.devices[i].busy_ms += ms_since(t0);
+                last_end[i] = ms_since(start);
+            }
+        };
+        // One thread per lane with work; the first of them runs on the calling thread (a lane alone
+        // with the stage starts no thread: a new thread's first driver call costs time on some
+        // platforms).
         std::vector<std::thread> threads;
+        std::optional<std::size_t> inline_lane;
         for (std::size_t i = 0; i < lanes.size(); ++i) {
             if (assigned[i].empty()) continue;
-            threads.emplace_back([&, i] {
-                for (Interval iv : assigned[i]) {
-                    if (!lanes[i].alive()) {
-                        lost[i].push_back(iv);
-                        continue;
-                    }
-                    if (iv.width() > lanes[i].cap) {  // the rest goes to the next round
-                        lost[i].push_back({iv.f0 + lanes[i].cap, iv.f1});
-                        iv.f1 = iv.f0 + lanes[i].cap;
-                    }
-                    const auto t0 = Clock::now();
-                    try {
-                        got[i].push_back({iv, fn(lanes[i], iv), i});
-                        report.devices[i].done += iv.width();
-                    } catch (const std::exception& e) {
-                        could_not_run(lanes[i], report.devices[i], iv, e);
-                        lost[i].push_back(iv);
-                    }
-                    report.devices[i].busy_ms += ms_since(t0);
-                    last_end[i] = ms_since(start);
-                }
-            });
+            if (!inline_lane)
+                inline_lane = i;
+            else
+                threads.emplace_back(work, i);
         }
+        if (inline_lane) work(*inline_lane);
         for (std::thread& t : threads) t.join();
         for (std::size_t i = 0; i < lanes.size(); ++i) {
             for (Part<Result>& p : got[i]) done.push_back(std::move(p));

@@ -78,19 +78,24 @@ TEST(PipelineSplit, BuildEqualsOneDeviceBitForBit) {
     }
 }
 
+// Shaded renders of one and of several geometries with instances, and the other methods and normal
+// rules: the image of one device, byte for byte.
 TEST(PipelineSplit, RenderEqualsOneDeviceBitForBit) {
     const fs::path dir = test::temp_dir("split_render");
     const std::string env = two_devices(dir);
-    for (const std::string& scene : {scene_path("spheres"), two_geometry_scene(dir).string()}) {
-        const std::string args = "render " + scene + kRender;
+    const std::string two = two_geometry_scene(dir).string();
+    for (const std::string& args :
+         {"render " + scene_path("spheres") + kRender, "render " + two + kRender,
+          "render " + two + " --brick-size 0.125 --width 96 --height 64 --method analytic --normals tetra",
+          "render " + two + " --brick-size 0.125 --width 96 --height 64 --method hybrid --normals central"}) {
         const nlohmann::json one = run_json(dir, env, "--device 0 " + args + " --out " + (dir / "one.ppm").string());
         fs::remove(dir / "rates.json");  // split by the static estimate: half each, whatever the load
         const nlohmann::json split =
             run_json(dir, env, "--device cpu --devices split " + args + " --out " + (dir / "split.ppm").string());
-        EXPECT_EQ(split["digest"], one["digest"]) << scene;
-        EXPECT_EQ(split["bricks"], one["bricks"]) << scene;
-        EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << scene;
-        for (const auto& d : split["placement"]["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << scene;
+        EXPECT_EQ(split["digest"], one["digest"]) << args;
+        EXPECT_EQ(split["bricks"], one["bricks"]) << args;
+        EXPECT_EQ(read_file(dir / "split.ppm"), read_file(dir / "one.ppm")) << args;
+        for (const auto& d : split["placement"]["trace"]["devices"]) EXPECT_GT(d["done"].get<double>(), 0.1) << args;
         // Where the time went: every device ran kernels and copied; each tracing device received the
         // whole merged scene, so the same bytes.
         for (const char* stage : {"construct", "trace"})
