@@ -232,7 +232,8 @@ nlohmann::json to_json(const RenderReport& r) {
         {"digest", r.digest}};
     if (r.job) {
         const nlohmann::json job = to_json(*r.job);
-        for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "wall_ms", "total_ms", "captures"})
+        for (const char* key : {"stages", "rays_per_second", "bricks", "memory", "accuracy", "wall_ms", "wall_breakdown_ms",
+                                "total_ms", "captures"})
             if (job.contains(key)) report[key] = job[key];
     }
     if (!report.contains("stages")) report["stages"] = nlohmann::json::array();
