@@ -13,6 +13,7 @@
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/fault.h"
 #include "core/files.h"
 #include "core/quote.h"
 
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
         // A closed standard output would be reused by the next file opened, and what is meant for
         // the terminal would land in an output file.
         if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) throw InputError("standard output is closed");
+        fault::check();
         app.parse(argc, argv);
         finish_stdout();
         return 0;

@@ -95,13 +95,28 @@ std::string_view point_name(Point point) {
     return "?";
 }
 
+namespace {
+
+// Loads the items once (the caller holds the mutex); a malformed value is reported once, then
+// injection stays off.
+void load(State& s) {
+    if (s.loaded) return;
+    s.loaded = true;
+    s.items = parse_env();
+}
+
+}  // namespace
+
+void check() {
+    State& s = state();
+    const std::lock_guard lock(s.mutex);
+    load(s);
+}
+
 bool should_fail(Point point, std::optional<std::size_t> device) {
     State& s = state();
     const std::lock_guard lock(s.mutex);
-    if (!s.loaded) {
-        s.loaded = true;  // a malformed value is reported once, then injection stays off
-        s.items = parse_env();
-    }
+    load(s);
     bool fail = false;
     for (Item& item : s.items) {
         if (item.point != point || (item.device && item.device != device)) continue;

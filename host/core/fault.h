@@ -27,6 +27,10 @@ std::string_view point_name(Point point);
 // one that must fail. Throws InputError once when SDFBRICK_FAULT is malformed.
 bool should_fail(Point point, std::optional<std::size_t> device = std::nullopt);
 
+// Reads SDFBRICK_FAULT now if it was not read yet; throws InputError when it is malformed. The CLI
+// calls it before any work, so that a malformed value is refused at once (a device's first event
+// would otherwise fail that device alone, and a split would go on without it).
+void check();
 // Re-reads SDFBRICK_FAULT and zeroes every count (tests set the variable, then call this).
 void reset();
 

@@ -1,6 +1,7 @@
 #include "measure/compare.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -59,24 +60,30 @@ void range(const nlohmann::json& s, double& median, double& lo, double& hi) {
 
 void add_pair(const Side& a, const Side& b, std::vector<StageDelta>& out) {
     const std::string device = a.device == b.device ? a.device : a.device + " -> " + b.device;
-    std::vector<std::string> names;
-    for (const auto* side : {&a, &b})
-        for (const auto& s : side->stages)
-            if (std::find(names.begin(), names.end(), s.value("name", "")) == names.end()) names.push_back(s.value("name", ""));
+    // Stages by name in order of first appearance (A's, then B's own); a name given twice in a report
+    // takes its last entry. One pass over each report: large reports compare in linear time.
+    std::vector<StageDelta> deltas;
+    std::unordered_map<std::string, std::size_t> index;
+    const auto entry = [&](const std::string& name) -> StageDelta& {
+        const auto [it, added] = index.try_emplace(name, deltas.size());
+        if (added) {
+            deltas.push_back({device, name});
+            deltas.back().in_a = deltas.back().in_b = false;
+        }
+        return deltas[it->second];
+    };
+    for (const auto& s : a.stages) {
+        StageDelta& d = entry(s.value("name", ""));
+        range(s, d.a_median, d.a_min, d.a_max);
+        d.in_a = true;
+    }
+    for (const auto& s : b.stages) {
+        StageDelta& d = entry(s.value("name", ""));
+        range(s, d.b_median, d.b_min, d.b_max);
+        d.in_b = true;
+    }
     StageDelta total{device, "total"};
-    for (const std::string& name : names) {
-        StageDelta d{device, name};
-        d.in_a = d.in_b = false;
-        for (const auto& s : a.stages)
-            if (s.value("name", "") == name) {
-                range(s, d.a_median, d.a_min, d.a_max);
-                d.in_a = true;
-            }
-        for (const auto& s : b.stages)
-            if (s.value("name", "") == name) {
-                range(s, d.b_median, d.b_min, d.b_max);
-                d.in_b = true;
-            }
+    for (const StageDelta& d : deltas) {
         total.a_median += d.a_median;
         total.b_median += d.b_median;
         total.a_min += d.a_min;

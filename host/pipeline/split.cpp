@@ -37,7 +37,20 @@ std::string device_key(const ocl::DeviceInfo& d) {
 std::optional<std::filesystem::path> RateStore::default_path() { return config_file(kEnv, "rates.json"); }
 
 RateStore::RateStore(std::optional<std::filesystem::path> path) : path_(std::move(path)) {
-    if (!path_ || !std::filesystem::exists(*path_)) return;
+    if (!path_) return;
+    // Where the store cannot be written (a file on its way to the folder), say so now, not after the run.
+    for (std::filesystem::path p = path_->parent_path(); !p.empty(); p = p.parent_path()) {
+        std::error_code ec;
+        const std::filesystem::file_status st = std::filesystem::status(p, ec);
+        if (std::filesystem::exists(st)) {
+            if (!std::filesystem::is_directory(st))
+                throw InputError(fmt::format("{}: the device rate store cannot be written: {} is not a folder",
+                                             path_->string(), p.string()));
+            break;
+        }
+        if (p == p.parent_path()) break;
+    }
+    if (!std::filesystem::exists(*path_)) return;
     data_ = nlohmann::json::parse(read_file(*path_), nullptr, false);
     if (!data_.is_object())
         throw InputError(fmt::format("{}: not a device rate store (a JSON object of devices)", path_->string()));

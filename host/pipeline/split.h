@@ -40,7 +40,7 @@ public:
     // ~/.config/sdfbrick/rates.json.
     static std::optional<std::filesystem::path> default_path();
     // A missing file is an empty store; without a path nothing is read or saved. Throws InputError
-    // naming the file when it is not a store.
+    // naming the file when it is not a store, or when a file stands where its folder would be.
     explicit RateStore(std::optional<std::filesystem::path> path);
 
     std::optional<double> rate(const ocl::DeviceInfo& device, std::string_view workload, std::string_view stage) const;

@@ -37,5 +37,25 @@ TEST(MeasureCompare, FlagsOnlyChangesBeyondTheRunsSpread) {
     EXPECT_EQ(measure::compare_reports(report("G", 1, 1, 1, 1), report("C", 2, 2, 2, 2))[0].device, "G -> C");
 }
 
+// Stages pair by name in one pass over each report: two reports of 30,000 stages (each a quarter
+// only in one report) compare in linear time (pairwise matching took 103 s), in A's order, then B's own.
+TEST(MeasureCompare, PairsManyStagesByName) {
+    nlohmann::json a = nlohmann::json::array(), b = nlohmann::json::array();
+    for (int i = 0; i < 30000; ++i) {
+        if (i % 4 != 3) a.push_back({{"name", "s" + std::to_string(i)}, {"median_ms", 1.0}});
+        if (i % 4 != 0) b.push_back({{"name", "s" + std::to_string(i)}, {"median_ms", 2.0}});
+    }
+    const auto deltas = measure::compare_reports({{"stages", a}}, {{"stages", b}});
+    ASSERT_EQ(deltas.size(), 30001u);
+    EXPECT_EQ(deltas[0].stage, "s0");
+    EXPECT_TRUE(deltas[0].in_a && !deltas[0].in_b);
+    EXPECT_EQ(deltas[1].stage, "s1");
+    EXPECT_TRUE(deltas[1].in_a && deltas[1].in_b);
+    EXPECT_EQ(deltas[22500].stage, "s3");  // B's own come after A's
+    EXPECT_TRUE(!deltas[22500].in_a && deltas[22500].in_b);
+    EXPECT_DOUBLE_EQ(deltas.back().a_median, 22500.0);
+    EXPECT_DOUBLE_EQ(deltas.back().b_median, 45000.0);
+}
+
 }  // namespace
 }  // namespace sdfbrick

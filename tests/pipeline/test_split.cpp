@@ -344,6 +344,18 @@ TEST(PipelineSplit, BadInputNamesTheFlag) {
     const CliRun twice = test::sdfbrick("--device 0,cpu --devices split" + build, env);
     EXPECT_EQ(twice.status, 2);
     EXPECT_NE(twice.err.find("--device: device 0"), std::string::npos) << twice.err;
+    // A malformed fault value is refused before any work (not as one failed lane of a split that
+    // goes on without it), and so is a rate store that a file stands in the way of.
+    const CliRun fault = test::sdfbrick("--device cpu --devices split" + build, env + " SDFBRICK_FAULT=launch@1:x");
+    EXPECT_EQ(fault.status, 2) << fault.out;
+    EXPECT_NE(fault.err.find("SDFBRICK_FAULT: item 'launch@1:x'"), std::string::npos) << fault.err;
+    test::write_text(dir / "file", "x");
+    const CliRun rates = test::sdfbrick("--device cpu --devices split" + build,
+                                        two_devices(dir, "SDFBRICK_RATES=" + (dir / "file" / "rates.json").string()));
+    EXPECT_EQ(rates.status, 2) << rates.out;
+    EXPECT_NE(rates.err.find("is not a folder"), std::string::npos) << rates.err;
+    EXPECT_EQ(std::count(rates.err.begin(), rates.err.end(), '\n'), 1) << rates.err;
+    EXPECT_TRUE(rates.out.empty()) << rates.out;
     const CliRun other = test::sdfbrick("--device cpu --devices split eval " + scene_path("spheres") + " --size 8", env);
     EXPECT_EQ(other.status, 2);
     EXPECT_NE(other.err.find("only build, render, export and sample"), std::string::npos) << other.err;
