@@ -47,13 +47,13 @@ for scene in scenes:
         label = open(f"{out}/config-{i}.label").read().strip()
         b = json.load(open(f"{out}/build-{scene}-{i}.json"))
         r = json.load(open(f"{out}/render-{scene}-{i}.json"))
-        c, t = b["construct"]["wall_ms"], r["trace"]["wall_ms"]
+        c, t = b["placement"]["construct"]["wall_ms"], r["placement"]["trace"]["wall_ms"]
         base = base or (c, t)
         shares = " / ".join(
-            ", ".join(f"{100 * d['done']:.0f}%" for d in s["devices"]) for s in (b["construct"], r["trace"]))
+            ", ".join(f"{100 * d['done']:.0f}%" for d in s["devices"]) for s in (b["placement"]["construct"], r["placement"]["trace"]))
         print(f"| {scene} | {label} | {c:.0f} | {base[0] / c:.2f}x | {t:.0f} | {base[1] / t:.2f}x | {shares} |")
-        if b["brick_digest"] != r["brick_digest"]:
-            sys.exit(f"{scene}: build and render digests differ")
-    digests = {json.load(open(f"{out}/render-{scene}-{i}.json"))["trace_digest"] for i in range(n)}
+        if b["bricks"] != r["bricks"]:
+            sys.exit(f"{scene}: build and render brick counts differ")
+    digests = {json.load(open(f"{out}/render-{scene}-{i}.json"))["digest"] for i in range(n)}
     print(f"\n{scene}: image digests of all configurations equal: {len(digests) == 1}\n")
 EOF
