@@ -117,10 +117,22 @@ void SweepSpec::validate() const {
     if (repeat < 1 || repeat > 1000) throw InputError(fmt::format("sweep: repeat must lie in 1..1000, got {}", repeat));
 }
 
+namespace {
+
+// a * b, or the largest std::size_t where the product would wrap.
+std::size_t saturating_product(std::size_t a, std::size_t b) {
+    std::size_t p = 0;
+    return __builtin_mul_overflow(a, b, &p) ? std::numeric_limits<std::size_t>::max() : p;
+}
+
+}  // namespace
+
 std::size_t SweepSpec::size_per_device() const {
-    const auto n = [](std::size_t s) { return std::max<std::size_t>(s, 1); };
-    return scenes.size() * n(brick_sizes.size()) * n(tolerances.size()) * n(chunks.size()) * n(groups.size()) * n(trace_groups.size()) *
-           n(culls.size()) * n(formats.size()) * n(samples.size()) * n(methods.size()) * n(normals.size());
+    std::size_t product = scenes.size();
+    for (std::size_t s : {brick_sizes.size(), tolerances.size(), chunks.size(), groups.size(), trace_groups.size(),
+                          culls.size(), formats.size(), samples.size(), methods.size(), normals.size()})
+        product = saturating_product(product, std::max<std::size_t>(s, 1));
+    return product;
 }
 
 SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
@@ -170,10 +182,13 @@ std::string SweepPoint::key(const SweepSpec& spec) const {
 
 std::vector<SweepPoint> expand(const SweepSpec& spec, const std::vector<std::string>& devices, std::size_t max_points) {
     spec.validate();
-    const std::size_t total = spec.size_per_device() * devices.size();
+    const std::size_t total = saturating_product(spec.size_per_device(), devices.size());
     if (total == 0) throw InputError("sweep: the grid is empty (no device?)");
-    if (total > max_points)
-        throw InputError(fmt::format("sweep: the grid has {} points, more than {}: split it or use fewer values", total, max_points));
+    if (total > max_points) {
+        const bool wraps = total == std::numeric_limits<std::size_t>::max();
+        throw InputError(fmt::format("sweep: the grid has {} points, more than {}: split it or use fewer values",
+                                     wraps ? std::string("2^64 or more") : std::to_string(total), max_points));
+    }
     std::vector<SweepPoint> out;
     out.reserve(total);
     SweepPoint p;

@@ -33,7 +33,7 @@ struct SweepSpec {
 
     // Throws InputError naming the key and the bad value.
     void validate() const;
-    std::size_t size_per_device() const;
+    std::size_t size_per_device() const;  // saturates at the largest std::size_t instead of wrapping
 };
 
 // Reads a sweep file's JSON: {"scenes": [...], "brick_sizes": [...], "tolerances": [...], "chunks": [...], "groups": [...],

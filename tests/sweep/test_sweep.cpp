@@ -114,6 +114,18 @@ TEST(Sweep, BadSpecsAreRefusedByName) {
         << "a misspelt key is refused";
     EXPECT_THROW(sweep::spec_from_json({{"scenes", {"a.json"}}, {"chunks", "many"}}, "f.json"), InputError);
     EXPECT_THROW(sweep::expand(small_spec(), {"d"}, 10), InputError) << "over the point limit";
+    // Four lists of 65,536 values: 2^64 points, which a plain product wraps to 0 ("empty").
+    s = small_spec();
+    s.brick_sizes.assign(65536, 0.5);
+    s.tolerances.assign(65536, 0.0);
+    s.chunks.assign(65536, 16);
+    s.groups.assign(65536, 64);
+    try {
+        sweep::expand(s, {"d"});
+        ADD_FAILURE() << "a grid of 2^64 points was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("more than 1000000"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Sweep, SpecFromJsonAcceptsValuesAndLists) {
