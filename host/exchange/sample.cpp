@@ -1,5 +1,6 @@
 #include "exchange/sample.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -36,6 +37,21 @@ std::optional<glm::dvec3> parse_csv_line(std::string_view line) {
     return p;
 }
 
+// A header line: three names such as "x,y,z", none of which begins like a number (a digit, a sign or
+// a point); a first line of numbers that do not parse ("1e400") is an error, not a header.
+bool is_header(std::string_view line) {
+    for (int field = 0; field < 3; ++field) {
+        const std::size_t comma = line.find(',');
+        if ((comma == std::string_view::npos) != (field == 2)) return false;
+        const std::string_view name = trim(line.substr(0, comma));
+        if (name.empty() || std::isdigit(static_cast<unsigned char>(name.front())) ||
+            std::string_view("+-.").find(name.front()) != std::string_view::npos)
+            return false;
+        line = field < 2 ? line.substr(comma + 1) : std::string_view();
+    }
+    return true;
+}
+
 std::vector<glm::dvec3> read_csv_points(const std::filesystem::path& path, const std::string& text) {
     std::vector<glm::dvec3> points;
     std::size_t line_no = 0, pos = 0;
@@ -48,7 +64,7 @@ std::vector<glm::dvec3> read_csv_points(const std::filesystem::path& path, const
         ++line_no;
         if (line.empty()) continue;
         const std::optional<glm::dvec3> p = parse_csv_line(line);
-        if (!p && header_allowed) {
+        if (!p && header_allowed && is_header(line)) {
             header_allowed = false;
             continue;
         }

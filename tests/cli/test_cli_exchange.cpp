@@ -75,6 +75,13 @@ TEST(CliExchange, SampleWritesDistancesAndRefusesBadPoints) {
     EXPECT_NE(bad.err.find("bad.csv: line 2"), std::string::npos) << bad.err;
     EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
     EXPECT_FALSE(fs::exists(dir / "bad-out.csv"));
+    // A first line of numbers that do not parse is an error, not a header taken silently.
+    test::write_text(dir / "range.csv", "1e400,0,0\n1,2,3\n");
+    const Result range = sdfbrick("sample " + kSpheres + " --points " + (dir / "range.csv").string() + " -o " +
+                                  (dir / "range-out.csv").string());
+    EXPECT_EQ(range.status, 2);
+    EXPECT_NE(range.err.find("range.csv: line 1"), std::string::npos) << range.err;
+    EXPECT_FALSE(fs::exists(dir / "range-out.csv"));
     EXPECT_EQ(sdfbrick("export " + kSpheres).status, 2);  // no output named
 }
 
