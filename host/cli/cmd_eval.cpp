@@ -171,8 +171,9 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     spec.offset = o.offset;
     spec.resolution = o.size;
     report.image = o.out.value_or(default_image_path(scene));
-    check_output_path(report.image);
-    if (o.json) check_output_path(*o.json);
+    std::vector<std::filesystem::path> paths{report.image};
+    if (o.json) paths.push_back(*o.json);
+    check_output_paths(paths);
 
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     std::optional<reference::Slice> first;

@@ -116,6 +116,10 @@ void run_export(const ExportOptions& o, const GlobalOptions& global) {
     if (!o.vdb && !o.nvdb) throw InputError("export: give --vdb FILE, --nvdb FILE or both");
     if (o.vdb) exchange::require_vdb(exchange::VdbFormat::openvdb);
     if (o.nvdb) exchange::require_vdb(exchange::VdbFormat::nanovdb);
+    std::vector<std::filesystem::path> paths;
+    for (const auto* path : {&o.vdb, &o.nvdb, &o.json})
+        if (*path) paths.emplace_back(**path);
+    check_output_paths(paths);
     const HostScene h = build_on_host(o, global);
     std::vector<exchange::VdbExport> files;
     if (o.vdb) files.push_back(exchange::write_vdb(h.scene, h.bricks, *o.vdb, exchange::VdbFormat::openvdb));
@@ -142,6 +146,9 @@ struct SampleOptions : SceneOptions {
 
 void run_sample(const SampleOptions& o, const GlobalOptions& global) {
     const std::vector<glm::dvec3> points = exchange::read_points(o.points);
+    std::vector<std::filesystem::path> paths{o.out};
+    if (o.json) paths.emplace_back(*o.json);
+    check_output_paths(paths);
     const HostScene h = build_on_host(o, global);
     const auto start = std::chrono::steady_clock::now();
     const std::vector<exchange::PointSample> samples = exchange::sample_points(h.scene, h.bricks, points);

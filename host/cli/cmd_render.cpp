@@ -440,12 +440,13 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const Scene scene = scene_at(file_scene, t);
     const std::filesystem::path out = o.out.value_or(fmt::format("{}-{}.{}", scene.name.empty() ? "scene" : scene.name,
                                                                  o.mode, image_io_has_oiio() ? "png" : "ppm"));
-    check_output_path(out);
+    std::vector<std::filesystem::path> paths{out};
     if (o.compare) {
-        check_output_path(with_suffix(out, "-reference"));
-        check_output_path(with_suffix(out, "-difference"));
+        paths.push_back(with_suffix(out, "-reference"));
+        paths.push_back(with_suffix(out, "-difference"));
     }
-    if (o.json) check_output_path(*o.json);
+    if (o.json) paths.push_back(*o.json);
+    check_output_paths(paths);
     const std::unique_ptr<RunDevices> devices = open_run_devices(global);
     const TuningChoice tuning = open_tuning(global);
     tune::Given given = o.flags.given();

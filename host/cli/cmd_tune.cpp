@@ -122,8 +122,9 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     const TuningChoice choice = open_tuning(global);
     if (!choice.path) throw InputError("no tuning database file: give --tuning-db or set SDFBRICK_TUNING_DB");
     tune::TuningDb db = *choice.db;
-    check_output_path(*choice.path);
-    if (o.json) check_output_path(*o.json);
+    std::vector<std::filesystem::path> paths{*choice.path};
+    if (o.json) paths.emplace_back(*o.json);
+    check_output_paths(paths);
     for (ocl::Device& device : devices) base.validate(device.info());  // the checks build makes, before any work
 
     say(fmt::format("tune {} ({}), brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n", scene.name,

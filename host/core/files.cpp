@@ -1,5 +1,6 @@
 #include "core/files.h"
 
+#include <algorithm>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -78,7 +79,33 @@ void check_output_path(const fs::path& path) {
         throw fail(std::strerror(errno));
 }
 
+namespace {
+
+// Two paths that name one file: the same after resolving what exists of them.
+void check_distinct(const std::vector<fs::path>& paths) {
+    std::vector<fs::path> seen;
+    for (const fs::path& p : paths) {
+        std::error_code ec;
+        fs::path key = fs::weakly_canonical(p, ec);
+        if (ec) key = fs::absolute(p).lexically_normal();
+        if (std::find(seen.begin(), seen.end(), key) != seen.end())
+            throw InputError(fmt::format("{}: named as two outputs of one command (the second would replace the first)",
+                                         p.string()));
+        seen.push_back(std::move(key));
+    }
+}
+
+}  // namespace
+
+void check_output_paths(const std::vector<fs::path>& paths) {
+    for (const fs::path& p : paths) check_output_path(p);
+    check_distinct(paths);
+}
+
 void write_all(const std::vector<Output>& outputs) {
+    std::vector<fs::path> paths;
+    for (const Output& o : outputs) paths.push_back(o.path);
+    check_distinct(paths);
     std::vector<fs::path> temps;  // one per output; empty: a special file, written in place
     try {
         for (const Output& o : outputs) {

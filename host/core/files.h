@@ -46,6 +46,9 @@ void write_all(const std::vector<Output>& outputs);
 // Refuses (InputError naming the path) an output path that cannot be written: a directory, a missing
 // or non-directory parent. Commands check all their outputs with it before doing any work.
 void check_output_path(const std::filesystem::path& path);
+// check_output_path for each of a command's outputs, and refuses two that name one file (the same
+// path, or paths that resolve to one file): the later write would silently replace the earlier.
+void check_output_paths(const std::vector<std::filesystem::path>& paths);
 
 // Flushes standard output; throws InputError("standard output: write failed: reason") when any
 // write to it failed (closed, full, a broken pipe).

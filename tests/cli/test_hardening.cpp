@@ -244,6 +244,28 @@ TEST(CliHardening, HostOutOfMemoryIsOneLineNotAnAbort) {
     EXPECT_FALSE(fs::exists(dir / "r.json"));
 }
 
+// Two outputs of one command that name one file (the same path, or another path to it) are refused
+// before any work: the second would silently replace the first.
+TEST(CliHardening, TwoOutputsNamingOneFileAreRefused) {
+    const fs::path dir = test::temp_dir("cli_same_output");
+    const std::string spheres = scene_path("spheres") + " --brick-size 0.25";
+    test::write_text(dir / "p.csv", "x,y,z\n0,0,0\n");
+    const std::string cases[] = {
+        "render " + spheres + " --width 32 --height 24 --out " + (dir / "a.ppm").string() + " --json " + (dir / "a.ppm").string(),
+        "render " + spheres + " --width 32 --height 24 --out " + (dir / "a.ppm").string() + " --json " + (dir / "." / "a.ppm").string(),
+        "sample " + spheres + " --points " + (dir / "p.csv").string() + " -o " + (dir / "s.csv").string() + " --json " +
+            (dir / "s.csv").string(),
+        "eval " + scene_path("spheres") + " --size 8 --out " + (dir / "e.ppm").string() + " --json " + (dir / "e.ppm").string()};
+    for (const std::string& args : cases) {
+        const CliRun r = sdfbrick(args, device_env());
+        EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+        EXPECT_TRUE(one_clean_line(r)) << args;
+        EXPECT_NE(r.err.find("named as two outputs"), std::string::npos) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+    for (const char* f : {"a.ppm", "s.csv", "e.ppm"}) EXPECT_FALSE(fs::exists(dir / f)) << f;
+}
+
 // Every fault point gives one line, its documented exit status (1 for OpenCL failures, 2 for a
 // failed write), and leaves no output file.
 TEST(CliFault, EachPointGivesOneLineItsStatusAndNoOutput) {
