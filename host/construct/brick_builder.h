@@ -150,6 +150,13 @@ struct GeometryBuild : GeometryBuildInfo {
 struct Subtrees {
     std::uint64_t min_bricks = 1;
     std::function<std::pair<std::uint64_t, std::uint64_t>(const std::vector<SdfBrick>&)> pick;
+
+    // Whether a level of `bricks` bricks is the split level: min_bricks or more, or the coarsest leaf
+    // level (the finest for uniform builds). Adaptive builds split there at the latest, so that no
+    // leaf lies above the split and every leaf belongs to exactly one part.
+    bool splits_at(int level, std::uint64_t bricks, int coarsest_leaf) const {
+        return bricks >= min_bricks || level >= coarsest_leaf;
+    }
 };
 
 class BrickBuilder {

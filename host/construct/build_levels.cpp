@@ -44,10 +44,7 @@ bool Levels::run() {
         std::uint64_t children = count_and_scan(level);
         subdivide(level, children);
         cull(level, children);
-        // Adaptive builds split at the coarsest leaf level at the latest: no leaf lies above the
-        // split level, so every leaf belongs to exactly one part, in Morton order within it.
-        if (subtrees_ && (children >= subtrees_->min_bricks || level + 1 == in_.plan.domain.levels ||
-                          (in_.settings.adaptive() && level >= in_.plan.coarsest_leaf))) {
+        if (subtrees_ && subtrees_->splits_at(level, children, in_.plan.coarsest_leaf)) {
             children = keep_subtrees(children);
             subtrees_ = nullptr;
         }

@@ -454,13 +454,12 @@ struct BuiltPart {
     std::optional<std::vector<construct::GeometryBuild>> resident;
 };
 
-// The split level of a whole build and its weight, from its level table: the level Subtrees would
+// The split level of a whole build and its weight, from its level table: the level subtrees would
 // pick and its list entries (each brick's list counts at least 1).
-std::pair<int, std::uint64_t> split_of(const construct::GeometryBuildInfo& b) {
+std::pair<int, std::uint64_t> split_of(const construct::GeometryBuildInfo& b, const construct::Subtrees& subtrees) {
     const std::vector<construct::LevelReport>& t = b.level_reports;
     for (std::size_t l = 0; l < t.size(); ++l)
-        if (t[l].bricks >= kSplitBricks || static_cast<int>(l) + 1 == b.levels ||
-            (b.tolerance > 0.0 && static_cast<int>(l) >= b.coarsest_leaf_level))
+        if (subtrees.splits_at(static_cast<int>(l), t[l].bricks, b.coarsest_leaf_level))
             return {static_cast<int>(l), std::max(t[l].edit_entries, t[l].bricks)};
     return {-1, 0};
 }
@@ -487,7 +486,7 @@ BuiltPart build_part(SplitLane& lane, const Scene& scene, const construct::Build
         construct::GeometryBuild b = lane.tools().builder().build(g, s, scheduler, whole ? nullptr : &subtrees);
         HostBuild h;
         if (whole) {
-            std::tie(split_level, total) = split_of(b);
+            std::tie(split_level, total) = split_of(b, subtrees);
             out.resident->push_back(std::move(b));
         } else {
             HostBuild recycled = gi < lane.spare.size() ? std::move(lane.spare[gi]) : HostBuild{};
