@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 
 namespace sdfbrick::ocl {
 
@@ -15,5 +17,10 @@ inline constexpr std::size_t kHostMemoryMargin = std::size_t{64} << 20;
 // Whether `bytes` of address space can be reserved now (an address-space limit such as ulimit -v,
 // or an exhausted host). Reserves nothing: the probe is released at once.
 bool host_can_map(std::size_t bytes);
+
+// The bytes of host memory this process can still use: the kernel's estimate of what can be had
+// without swapping (MemAvailable), and below an address-space limit (ulimit -v) what is left of it.
+// std::nullopt when neither can be read.
+std::optional<std::uint64_t> host_memory_available();
 
 }  // namespace sdfbrick::ocl

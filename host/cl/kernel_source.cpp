@@ -1,7 +1,6 @@
 #include "cl/kernel_source.h"
 
 #include <cstdlib>
-#include <fstream>
 #include <mutex>
 #include <regex>
 #include <set>
@@ -11,9 +10,15 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "core/errors.h"
+#include "core/files.h"
+
 namespace sdfbrick::ocl {
 
 namespace {
+
+// The largest kernel source file read from a kernel directory.
+constexpr std::size_t kMaxKernelSourceBytes = std::size_t{4} << 20;
 
 std::mutex kernel_dir_mutex;
 std::optional<std::filesystem::path> kernel_dir_override;
@@ -56,16 +61,20 @@ std::string read_kernel_file(std::string_view file, std::string_view included_fr
     const std::string who = included_from.empty() ? std::string() : fmt::format(" (included from {})", included_from);
     if (const std::optional<KernelDir> dir = current_kernel_dir()) {
         const std::filesystem::path path = dir->path / std::filesystem::path(file);
-        std::ifstream in(path, std::ios::binary);
-        if (!in) {
+        std::error_code ec;
+        if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) {
             if (const auto extra = find_extra(file)) return std::string(*extra);
             throw std::runtime_error(fmt::format("kernel source '{}'{} not found: cannot read {} (kernel directory "
                                                  "set by {})",
                                                  file, who, path.string(), dir->set_by));
         }
-        std::ostringstream text;
-        text << in.rdbuf();
-        return std::move(text).str();
+        // Regular files of a bounded size only, as for every other input: a link to /dev/zero or a
+        // FIFO is refused, never read until memory runs out or forever.
+        try {
+            return read_file(path, kMaxKernelSourceBytes);
+        } catch (const InputError& e) {
+            throw InputError(fmt::format("kernel source '{}'{}: {} (kernel directory set by {})", file, who, e.what(), dir->set_by));
+        }
     }
     std::vector<std::string_view> names;
     for (const auto& [name, text] : embedded_kernel_sources()) {

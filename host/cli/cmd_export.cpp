@@ -3,6 +3,7 @@
 // double-precision reference field (sample).
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <memory>
 
 #include <fmt/format.h>
@@ -40,8 +41,11 @@ struct HostScene {
 };
 
 // The bricks on the first device that --device selects, or shared by the devices with --devices split
-// (merged on the home device), then read back to the host.
-HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global) {
+// (merged on the home device), then read back to the host. held(layout): the host bytes the command
+// holds per leaf brick beyond the copy read back (its grids); a build whose projected leaves would
+// not fit in the host's memory is refused before its leaves are made.
+HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global,
+                        const std::function<double(const construct::BrickLayout&)>& held = {}) {
     apply_global_options(global, true);
     const Scene file_scene = load_scene(o.file);
     HostScene h;
@@ -50,7 +54,10 @@ HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global) {
     const TuningChoice tuning = open_tuning(global);
     pipeline::Job job;
     job.work = pipeline::Work::construct;
-    job.settings = tune::settings_for(o.flags.resolve(), std::nullopt, tuning.get(), o.flags.given());
+    construct::BuildSettings settings = o.flags.resolve();
+    settings.host_bytes_per_leaf =
+        exchange::HostBricks::bytes_per_brick(settings.layout()) + (held ? held(settings.layout()) : 0.0);
+    job.settings = tune::settings_for(settings, std::nullopt, tuning.get(), o.flags.given());
     job.brick_digests = false;
     job.image = false;
     job.rates = devices->rates ? &*devices->rates : nullptr;
@@ -120,20 +127,27 @@ void run_export(const ExportOptions& o, const GlobalOptions& global) {
     for (const auto* path : {&o.vdb, &o.nvdb, &o.json})
         if (*path) paths.emplace_back(**path);
     check_output_paths(paths);
-    const HostScene h = build_on_host(o, global);
-    std::vector<exchange::VdbExport> files;
-    if (o.vdb) files.push_back(exchange::write_vdb(h.scene, h.bricks, *o.vdb, exchange::VdbFormat::openvdb));
-    if (o.nvdb) files.push_back(exchange::write_vdb(h.scene, h.bricks, *o.nvdb, exchange::VdbFormat::nanovdb));
+    const HostScene h = build_on_host(o, global, [&](const construct::BrickLayout& layout) {
+        return (o.vdb ? exchange::grid_bytes_per_brick(layout, exchange::VdbFormat::openvdb) : 0.0) +
+               (o.nvdb ? exchange::grid_bytes_per_brick(layout, exchange::VdbFormat::nanovdb) : 0.0);
+    });
+    std::vector<exchange::VdbFile> files;
+    if (o.vdb) files.push_back(exchange::make_vdb(h.scene, h.bricks, *o.vdb, exchange::VdbFormat::openvdb));
+    if (o.nvdb) files.push_back(exchange::make_vdb(h.scene, h.bricks, *o.nvdb, exchange::VdbFormat::nanovdb));
+    std::vector<Output> outputs;
+    for (const exchange::VdbFile& f : files) outputs.push_back(f.output);
+    if (o.json)  // made when written, after the files it describes (their sizes)
+        outputs.push_back({*o.json, [&](std::ostream& os) {
+                               nlohmann::json j = host_scene_json(h, o);
+                               j["command"] = "export";
+                               j["files"] = nlohmann::json::array();
+                               for (const exchange::VdbFile& f : files) j["files"].push_back(to_json(f.written()));
+                               os << format_json(j);
+                           }});
+    write_all(outputs);
     std::string text = "export " + host_scene_text(h, o);
-    for (const exchange::VdbExport& e : files) text += to_text(e);
-    if (o.json) {
-        nlohmann::json j = host_scene_json(h, o);
-        j["command"] = "export";
-        j["files"] = nlohmann::json::array();
-        for (const exchange::VdbExport& e : files) j["files"].push_back(to_json(e));
-        write_file_atomic(*o.json, format_json(j));
-        text += fmt::format("report: {}\n", *o.json);
-    }
+    for (const exchange::VdbFile& f : files) text += to_text(f.written());
+    if (o.json) text += fmt::format("report: {}\n", *o.json);
     std::fputs(text.c_str(), stdout);
 }
 
@@ -153,7 +167,7 @@ void run_sample(const SampleOptions& o, const GlobalOptions& global) {
     const auto start = std::chrono::steady_clock::now();
     const std::vector<exchange::PointSample> samples = exchange::sample_points(h.scene, h.bricks, points);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    write_file_atomic(o.out, exchange::samples_csv(samples));
+    std::vector<Output> outputs{text_output(o.out, exchange::samples_csv(samples))};
     std::size_t in_band = 0, unsaturated = 0;
     double max_error = 0.0;
     for (const exchange::PointSample& s : samples) {
@@ -173,9 +187,10 @@ void run_sample(const SampleOptions& o, const GlobalOptions& global) {
         j["command"] = "sample";
         j["points"] = {{"file", o.points}, {"count", points.size()}, {"inside_bricks", in_band},
                        {"within_band", unsaturated}, {"max_abs_difference", max_error}, {"ms", ms}, {"out", o.out}};
-        write_file_atomic(*o.json, format_json(j));
+        outputs.push_back(text_output(*o.json, format_json(j)));
         text += fmt::format("report: {}\n", *o.json);
     }
+    write_all(outputs);
     std::fputs(text.c_str(), stdout);
 }
 

@@ -63,6 +63,7 @@ void run_stability_command(const StabilityOptions& o, const GlobalOptions& globa
     apply_global_options(global);
     sweep::StabilitySpec spec = make_spec(o);
     if (o.json) check_output_path(*o.json);
+    if (o.spec.pictures) check_output_folder(*o.spec.pictures);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     const TuningChoice tuning = open_tuning(global);
     spec.tuning = tuning.get();
@@ -75,7 +76,16 @@ void run_stability_command(const StabilityOptions& o, const GlobalOptions& globa
         std::fflush(stderr);
     };
     const sweep::StabilityReport report = sweep::run_stability(spec, devices, progress);
-    if (o.json) write_file_atomic(*o.json, format_json(sweep::to_json(report)));
+    std::vector<Output> outputs = report.pictures;
+    if (o.json) outputs.push_back(text_output(*o.json, format_json(sweep::to_json(report))));
+    const bool made = o.spec.pictures && make_output_folder(*o.spec.pictures);
+    try {
+        write_all(outputs);
+    } catch (...) {
+        std::error_code ignored;
+        if (made) std::filesystem::remove(*o.spec.pictures, ignored);
+        throw;
+    }
     std::fputs(sweep::to_text(report).c_str(), stdout);
     if (o.json) std::printf("report: %s\n", o.json->c_str());
 }

@@ -88,8 +88,8 @@ void run_sweep(const SweepOptions& o, const GlobalOptions& global) {
     const std::vector<sweep::SweepRow> rows = sweep::run_points(spec, points, devices, tuning.get(), cache, progress);
     const auto errors = static_cast<std::size_t>(
         std::count_if(rows.begin(), rows.end(), [](const sweep::SweepRow& r) { return !r.ok(); }));
-    write_file_atomic(o.out + ".csv", sweep::to_csv(rows));
-    write_file_atomic(o.out + ".json", format_json(sweep::sweep_document(spec, shard, grid.size(), rows)));
+    write_all({text_output(o.out + ".csv", sweep::to_csv(rows)),
+               text_output(o.out + ".json", format_json(sweep::sweep_document(spec, shard, grid.size(), rows)))});
     std::printf("sweep: %zu points of %zu in the grid (shard %zu/%zu), %zu failed; wrote %s.csv and %s.json\n", rows.size(),
                 grid.size(), shard.index, shard.count, errors, o.out.c_str(), o.out.c_str());
     for (const sweep::SweepRow& r : rows)
@@ -107,8 +107,7 @@ void run_merge(const std::vector<std::string>& files, const std::string& out) {
     doc["merged_from"] = files;
     doc["complete"] = m.complete;
     doc["notes"] = m.notes;
-    write_file_atomic(out + ".csv", sweep::to_csv(m.rows));
-    write_file_atomic(out + ".json", format_json(doc));
+    write_all({text_output(out + ".csv", sweep::to_csv(m.rows)), text_output(out + ".json", format_json(doc))});
     std::printf("merge: %zu points from %zu files, %s; wrote %s.csv and %s.json\n", m.rows.size(), files.size(),
                 m.complete ? "complete" : "NOT complete", out.c_str(), out.c_str());
     for (const std::string& n : m.notes) std::printf("  %s\n", n.c_str());

@@ -68,6 +68,10 @@ struct BuildSettings {
     // tolerance (geometry units) at every check point is a leaf; 0 = uniform (every leaf leaf_size).
     double tolerance = 0.0;
     double max_leaf_size = 0.0;   // adaptive: the largest leaf brick (0: a quarter of the geometry's extent)
+    // Host bytes the caller will hold per leaf brick once the build is done (an export's copy and
+    // grids); 0: none. With it, a build whose projected leaves would not fit in the host memory
+    // available (ocl::host_memory_available) is refused at the level that shows it, before the leaves.
+    double host_bytes_per_leaf = 0.0;
 
     bool adaptive() const { return tolerance > 0.0; }
     BrickLayout layout() const { return {samples, format}; }

@@ -5,6 +5,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "cl/host_memory.h"
 #include "cl/launch.h"
 
 namespace sdfbrick::construct::detail {
@@ -131,7 +132,22 @@ std::uint64_t Levels::count_and_scan(int level) {
                 "{} bytes at once: use a larger leaf_size",
                 in_.settings.leaf_size, in_.geometry.name, in_.device.info().name, level, children, projected,
                 pool_projected, in_.device.info().max_alloc_bytes));
+    check_host_projection(level, children, projected);
     return children;
+}
+
+void Levels::check_host_projection(int level, std::uint64_t children, double projected) const {
+    if (in_.settings.host_bytes_per_leaf <= 0.0) return;
+    const double host_projected = projected * in_.settings.host_bytes_per_leaf;
+    const std::optional<std::uint64_t> available = ocl::host_memory_available();
+    if (!available || host_projected <= static_cast<double>(*available)) return;
+    throw SettingError(
+        "leaf_size",
+        fmt::format("leaf_size {} is too small for geometry \"{}\" on this host: level {} already has {} bricks, which "
+                    "projects to about {:.3g} leaf bricks holding about {:.3g} bytes of host memory ({:.0f} per leaf); "
+                    "{} bytes are available: use a larger leaf_size",
+                    in_.settings.leaf_size, in_.geometry.name, level, children, projected, host_projected,
+                    in_.settings.host_bytes_per_leaf, *available));
 }
 
 void Levels::subdivide(int level, std::uint64_t children) {

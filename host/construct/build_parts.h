@@ -216,6 +216,9 @@ private:
     };
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
     std::uint64_t count_and_scan(int level);
+    // Refuses (SettingError "leaf_size") projected leaves whose host bytes (settings.host_bytes_per_leaf)
+    // exceed the host memory available.
+    void check_host_projection(int level, std::uint64_t children, double projected) const;
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
     void cull_lists(int level, std::uint64_t children);

@@ -20,7 +20,7 @@ struct Item {
     std::size_t seen = 0;
 };
 
-constexpr Point kPoints[] = {Point::alloc, Point::build, Point::launch, Point::write};
+constexpr Point kPoints[] = {Point::alloc, Point::build, Point::launch, Point::write, Point::signal};
 
 std::size_t parse_number(std::string_view text, std::string_view item, std::size_t least) {
     std::size_t value = 0;
@@ -52,7 +52,7 @@ Item parse_item(std::string_view item) {
         }
     }
     if (!known) {
-        throw InputError(fmt::format("{}: item '{}': unknown point '{}' (alloc, build, launch, write)", kEnv, item,
+        throw InputError(fmt::format("{}: item '{}': unknown point '{}' (alloc, build, launch, write, signal)", kEnv, item,
                                      head));
     }
     return parsed;
@@ -91,6 +91,7 @@ std::string_view point_name(Point point) {
         case Point::build: return "build";
         case Point::launch: return "launch";
         case Point::write: return "write";
+        case Point::signal: return "signal";
     }
     return "?";
 }

@@ -5,6 +5,7 @@
 //   build   a kernel program build            (fails as CL_BUILD_PROGRAM_FAILURE)
 //   launch  a kernel launch                   (fails as CL_OUT_OF_RESOURCES)
 //   write   an output file write              (fails as an I/O error)
+//   signal  an output file write              (SIGTERM once its temporary file holds the bytes)
 // With @DEVICE (the device's global index, as `sdfbrick devices` lists it) only that device's events
 // count; without it every event of the point counts. "launch@1:5,write:2" fails device 1's fifth
 // launch and the second file write. Counting is per item and thread-safe.
@@ -19,7 +20,7 @@ namespace sdfbrick::fault {
 
 inline constexpr const char* kEnv = "SDFBRICK_FAULT";
 
-enum class Point { alloc, build, launch, write };
+enum class Point { alloc, build, launch, write, signal };
 
 std::string_view point_name(Point point);
 

@@ -54,6 +54,10 @@ HostBricks::HostBricks(const construct::GeometryBuild& b, const construct::Build
     }
 }
 
+double HostBricks::bytes_per_brick(const construct::BrickLayout& layout) {
+    return static_cast<double>(layout.samples_per_brick() * sizeof(float) + sizeof(glm::ivec3)) + 48.0;
+}
+
 std::optional<std::size_t> HostBricks::find(const glm::ivec3& coord) const {
     const auto it = index_.find(coord);
     if (it == index_.end()) return std::nullopt;

@@ -31,6 +31,9 @@ class HostBricks {
 public:
     // Reads the leaves and the pool of b (built with settings) back from the device.
     HostBricks(const construct::GeometryBuild& b, const construct::BuildSettings& settings);
+    // About the host bytes one leaf brick of this layout takes here: its samples as floats, its
+    // coordinate and its index entry.
+    static double bytes_per_brick(const construct::BrickLayout& layout);
 
     std::size_t brick_count() const { return coords_.size(); }
     int samples() const { return samples_; }

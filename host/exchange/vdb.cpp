@@ -1,6 +1,7 @@
 #include "exchange/vdb.h"
 
 #include <chrono>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <unordered_set>
@@ -35,6 +36,11 @@ bool vdb_available(VdbFormat f) {
 #endif
     (void)f;
     return false;
+}
+
+double grid_bytes_per_brick(const construct::BrickLayout& layout, VdbFormat f) {
+    const double voxels = std::pow(static_cast<double>(layout.interior()), 3.0);
+    return voxels * (f == VdbFormat::openvdb ? 12.0 : 24.0);
 }
 
 void require_vdb(VdbFormat f) {
@@ -119,8 +125,14 @@ openvdb::FloatTree::Ptr openvdb_tree(const HostBricks& b, double scale) {
     return tree;
 }
 
-void write_openvdb(const Scene& scene, std::span<const HostBricks> bricks, std::vector<ObjectGrid>& grids,
-                   const std::filesystem::path& path) {
+// OpenVDB's archive writer, given a stream of ours: io::File would open the path itself, unchecked.
+class StreamArchive : public openvdb::io::Archive {
+public:
+    void write_to(std::ostream& os, const openvdb::GridPtrVec& grids) const { Archive::write(os, grids, /*seekable=*/true); }
+};
+
+Output openvdb_output(const Scene& scene, std::span<const HostBricks> bricks, std::vector<ObjectGrid>& grids,
+                      const std::filesystem::path& path) {
     openvdb::initialize();
     openvdb::GridPtrVec out;
     std::map<std::pair<std::size_t, double>, openvdb::FloatTree::Ptr> trees;  // (geometry, scale): shared
@@ -144,18 +156,13 @@ void write_openvdb(const Scene& scene, std::span<const HostBricks> bricks, std::
         g.record.active_voxels = grid->activeVoxelCount();
         out.push_back(grid);
     }
-    write_via_temp(path, [&](const std::filesystem::path& temp) {
-        openvdb::io::File file(temp.string());
-        file.write(out);
-        file.close();
-    });
+    return {path, [out](std::ostream& os) { StreamArchive().write_to(os, out); }};
 }
 #endif
 
 #if SDFBRICK_WITH_NANOVDB
-void write_nanovdb(std::span<const HostBricks> bricks, std::vector<ObjectGrid>& grids,
-                   const std::filesystem::path& path) {
-    std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>> handles;
+Output nanovdb_output(std::span<const HostBricks> bricks, std::vector<ObjectGrid>& grids, const std::filesystem::path& path) {
+    auto handles = std::make_shared<std::vector<nanovdb::GridHandle<nanovdb::HostBuffer>>>();
     for (ObjectGrid& g : grids) {
         const HostBricks& b = bricks[g.geometry];
         nanovdb::GridBuilder<float> builder(static_cast<float>(g.record.background), nanovdb::GridClass::LevelSet);
@@ -175,33 +182,50 @@ void write_nanovdb(std::span<const HostBricks> bricks, std::vector<ObjectGrid>& 
             }
         nanovdb::Map map;
         map.set(mat, inv, nanovdb::Vec3d(m.origin.x, m.origin.y, m.origin.z), 1.0);
-        handles.push_back(builder.getHandle(map, g.record.name));
-        g.record.active_voxels = handles.back().grid<float>()->activeVoxelCount();
+        handles->push_back(builder.getHandle(map, g.record.name));
+        g.record.active_voxels = handles->back().grid<float>()->activeVoxelCount();
     }
-    write_via_temp(path, [&](const std::filesystem::path& temp) { nanovdb::io::writeGrids(temp.string(), handles); });
+    return {path, [handles](std::ostream& os) { nanovdb::io::writeGrids(os, *handles); }};
 }
 #endif
 
 }  // namespace
 
-VdbExport write_vdb(const Scene& scene, std::span<const HostBricks> bricks, const std::filesystem::path& path,
-                    VdbFormat format) {
+VdbFile make_vdb(const Scene& scene, std::span<const HostBricks> bricks, const std::filesystem::path& path,
+                 VdbFormat format) {
     require_vdb(format);
     const auto start = std::chrono::steady_clock::now();
-    VdbExport out;
-    out.format = format;
-    out.path = path;
     std::vector<ObjectGrid> grids = object_grids(scene, bricks);
+    if (grids.empty())
+        throw InputError(fmt::format("{}: nothing to write: no object of scene \"{}\" has a brick (no surface lies within "
+                                     "its geometry's bounds at this leaf size)",
+                                     path.string(), scene.name));
+    VdbFile file;
+    file.record.format = format;
+    file.record.path = path;
 #if SDFBRICK_WITH_OPENVDB
-    if (format == VdbFormat::openvdb) write_openvdb(scene, bricks, grids, path);
+    if (format == VdbFormat::openvdb) file.output = openvdb_output(scene, bricks, grids, path);
 #endif
 #if SDFBRICK_WITH_NANOVDB
-    if (format == VdbFormat::nanovdb) write_nanovdb(bricks, grids, path);
+    if (format == VdbFormat::nanovdb) file.output = nanovdb_output(bricks, grids, path);
 #endif
-    out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    out.file_bytes = std::filesystem::file_size(path);
-    for (ObjectGrid& g : grids) out.grids.push_back(std::move(g.record));
-    return out;
+    // Count the bytes as they are written: the file's size, also where the path is a special file.
+    file.output.write = [write = std::move(file.output.write), bytes = file.bytes](std::ostream& os) {
+        const std::streampos begin = os.tellp();
+        write(os);
+        const std::streampos end = os.tellp();
+        *bytes = begin >= 0 && end >= begin ? static_cast<std::uint64_t>(end - begin) : 0;
+    };
+    file.record.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    for (ObjectGrid& g : grids) file.record.grids.push_back(std::move(g.record));
+    return file;
+}
+
+VdbExport write_vdb(const Scene& scene, std::span<const HostBricks> bricks, const std::filesystem::path& path,
+                    VdbFormat format) {
+    VdbFile file = make_vdb(scene, bricks, path, format);
+    write_all({file.output});
+    return file.written();
 }
 
 }  // namespace sdfbrick::exchange

@@ -13,11 +13,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/files.h"
 #include "exchange/host_bricks.h"
 #include "scene/scene.h"
 
@@ -63,11 +65,35 @@ struct VdbExport {
     std::filesystem::path path;
     std::vector<VdbGridRecord> grids;
     std::uint64_t file_bytes = 0;
-    double ms = 0.0;  // host wall time: grids built and the file written
+    double ms = 0.0;  // host wall time of making the grids in memory
 };
 
-// Writes one grid per object of scene (at its time); bricks[g] is geometry g's brick set. Objects
-// whose geometry has no brick are left out. The file appears whole or not at all.
+// A level-set file made in memory, ready to write: what it holds and the output that writes it
+// (with other outputs of a command through one write_all).
+struct VdbFile {
+    VdbExport record;
+    Output output;
+    std::shared_ptr<std::uint64_t> bytes = std::make_shared<std::uint64_t>(0);  // set as the output is written
+
+    // The record with the size of the file as written.
+    VdbExport written() const {
+        VdbExport r = record;
+        r.file_bytes = *bytes;
+        return r;
+    }
+};
+
+// Makes one grid per object of scene (at its time); bricks[g] is geometry g's brick set. Objects
+// whose geometry has no brick are left out; a scene with no brick at all is refused (InputError).
+// About the host bytes the grids of format f take per leaf brick of this layout while they are made
+// (each interior voxel a float in a tree with its masks and partly filled leaf nodes; NanoVDB's
+// builder tree and its finished grid at once): generous, for refusing an export that cannot fit.
+double grid_bytes_per_brick(const construct::BrickLayout& layout, VdbFormat f);
+
+VdbFile make_vdb(const Scene& scene, std::span<const HostBricks> bricks, const std::filesystem::path& path,
+                 VdbFormat format);
+
+// make_vdb, then write_all of that one file.
 VdbExport write_vdb(const Scene& scene, std::span<const HostBricks> bricks, const std::filesystem::path& path,
                     VdbFormat format);
 

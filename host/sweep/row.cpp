@@ -1,6 +1,12 @@
 #include "sweep/row.h"
 
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
 #include <fmt/format.h>
+
+#include "core/errors.h"
 
 namespace sdfbrick::sweep {
 
@@ -17,8 +23,24 @@ json value_json(const std::optional<T>& v) {
     return v ? json(*v) : json(nullptr);
 }
 
+// A value of the type the column holds, strictly: no integer from a fraction or a negative number,
+// none out of its type's range (json's own conversions would wrap or truncate).
 template <class T>
 void read_value(const json& j, T& v) {
+    if constexpr (std::is_same_v<T, bool>) {
+        if (!j.is_boolean()) throw InputError("expected true or false");
+    } else if constexpr (std::is_integral_v<T> && std::is_unsigned_v<T>) {
+        if (!j.is_number_unsigned() || j.get<std::uint64_t>() > std::numeric_limits<T>::max())
+            throw InputError(fmt::format("expected an integer in [0, {}]", std::numeric_limits<T>::max()));
+    } else if constexpr (std::is_integral_v<T>) {
+        if (!j.is_number_integer() || j.get<std::int64_t>() < std::numeric_limits<T>::min() ||
+            j.get<std::int64_t>() > std::numeric_limits<T>::max())
+            throw InputError(fmt::format("expected an integer in [{}, {}]", std::numeric_limits<T>::min(), std::numeric_limits<T>::max()));
+    } else if constexpr (std::is_floating_point_v<T>) {
+        if (!j.is_number()) throw InputError("expected a number");
+    } else if constexpr (std::is_same_v<T, std::string>) {
+        if (!j.is_string()) throw InputError("expected a string");
+    }
     v = j.get<T>();
 }
 template <class T>
@@ -190,9 +212,19 @@ json to_json(const std::vector<SweepRow>& rows) {
 }
 
 SweepRow row_from_json(const json& j) {
+    if (!j.is_object()) throw InputError("expected a row object");
     SweepRow row;
-    for (const Column& c : columns())
-        if (const auto it = j.find(c.name); it != j.end()) c.set(row, *it);
+    for (const Column& c : columns()) {
+        const auto it = j.find(c.name);
+        if (it == j.end()) continue;
+        try {
+            c.set(row, *it);
+        } catch (const InputError& e) {
+            throw InputError(fmt::format("/{}: {}", c.name, e.what()));
+        } catch (const json::exception&) {
+            throw InputError(fmt::format("/{}: a value of the wrong type ({})", c.name, it->type_name()));
+        }
+    }
     return row;
 }
 

@@ -98,8 +98,8 @@ std::vector<std::string> csv_columns();
 // Every column the row has.
 nlohmann::json to_json(const SweepRow& row);
 nlohmann::json to_json(const std::vector<SweepRow>& rows);
-// The columns present in j (others keep their defaults; unknown keys are ignored). Throws
-// nlohmann::json::exception for a value of the wrong type.
+// The columns present in j (others keep their defaults; unknown keys are ignored). Throws InputError
+// ("/COLUMN: expected ...") for anything but an object, and for a value of the wrong type or range.
 SweepRow row_from_json(const nlohmann::json& j);
 
 // A header line of the CSV columns, then one line per row; an absent or null value is an empty cell;

@@ -1,9 +1,12 @@
 #include "sweep/runner.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <chrono>
-#include <fstream>
+#include <cerrno>
+#include <cstring>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -178,7 +181,10 @@ SweepRow point_row(const SweepSpec& spec, const SweepPoint& p, const ocl::Device
 
 ResultCache::ResultCache(std::filesystem::path path) : path_(std::move(path)) {
     std::error_code ec;
-    if (!std::filesystem::exists(path_, ec)) return;
+    if (path_.has_parent_path() && !std::filesystem::is_directory(path_.parent_path(), ec) &&
+        !std::filesystem::create_directories(path_.parent_path(), ec) && ec)
+        throw InputError(fmt::format("{}: cannot make the cache's folder: {}", path_.string(), ec.message()));
+    fd_ = open_journal(path_);
     const std::string text = read_file(path_);
     cut_ = !text.empty() && text.back() != '\n';
     std::istringstream in(text);
@@ -186,7 +192,7 @@ ResultCache::ResultCache(std::filesystem::path path) : path_(std::move(path)) {
         try {
             const nlohmann::json j = nlohmann::json::parse(line);
             rows_[j.at("key").get<std::string>()] = row_from_json(j.at("row"));
-        } catch (const nlohmann::json::exception&) {
+        } catch (const std::exception&) {  // json's errors and InputError
             // a line cut short by a killed run (or a row that does not read back): that point runs again
         }
     }
@@ -197,16 +203,22 @@ const SweepRow* ResultCache::find(const std::string& key) const {
     return it != rows_.end() ? &it->second : nullptr;
 }
 
+ResultCache::~ResultCache() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
 void ResultCache::add(const std::string& key, const SweepRow& row) {
     rows_[key] = row;
-    if (path_.has_parent_path()) std::filesystem::create_directories(path_.parent_path());
-    std::ofstream out(path_, std::ios::app);
-    if (cut_) out << '\n';
+    std::string line = cut_ ? "\n" : "";
     cut_ = false;
-    out << nlohmann::json{{"key", key}, {"row", to_json(row)}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
-        << '\n';
-    out.flush();
-    if (!out) throw std::runtime_error(fmt::format("writing the sweep cache {}", path_.string()));
+    line += nlohmann::json{{"key", key}, {"row", to_json(row)}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    line += '\n';
+    for (std::size_t done = 0; done < line.size();) {
+        const ssize_t n = ::write(fd_, line.data() + done, line.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw InputError(fmt::format("{}: write failed: {}", path_.string(), std::strerror(n < 0 ? errno : EIO)));
+        done += static_cast<std::size_t>(n);
+    }
 }
 
 std::vector<std::string> device_labels(const ocl::DeviceSet& devices) {
@@ -291,13 +303,46 @@ namespace {
 // The rows of one document into by_key (a later row of the same key replaces the earlier one).
 void merge_points(const nlohmann::json& points, const std::string& where, std::map<std::string, SweepRow>& by_key,
                   std::vector<std::string>& notes) {
-    for (const nlohmann::json& j : points) {
-        SweepRow row = row_from_json(j);
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        SweepRow row;
+        try {
+            row = row_from_json(points[p]);
+        } catch (const InputError& e) {
+            throw InputError(fmt::format("{}: /points/{}{}{}", where, p, e.what()[0] == '/' ? "" : ": ", e.what()));
+        }
         if (by_key.count(row.key))
             notes.push_back(fmt::format("{}: point {} already merged from an earlier file; the later one is kept",
                                         where, row.index));
         by_key[row.key] = std::move(row);
     }
+}
+
+// The fields of a sweep result that merging reads, checked: InputError naming the file and the
+// JSON path of the first that is missing or wrongly typed.
+struct ShardDocument {
+    const nlohmann::json* spec = nullptr;
+    std::size_t index = 0, count = 1, grid_points = 0;
+};
+
+std::size_t count_field(const nlohmann::json& j, const char* name, const std::string& where, const std::string& path) {
+    const auto it = j.find(name);
+    if (it == j.end() || !it->is_number_unsigned())
+        throw InputError(fmt::format("{}: {}/{}: expected a non-negative integer{}", where, path, name,
+                                     it == j.end() ? ", found none" : fmt::format(", got {}", it->dump().substr(0, 40))));
+    return it->get<std::size_t>();
+}
+
+ShardDocument read_shard_document(const nlohmann::json& doc, const std::string& where) {
+    if (!doc.is_object() || doc.value("command", "") != "sweep" || !doc.contains("points") || !doc["points"].is_array() ||
+        !doc.contains("spec"))
+        throw InputError(fmt::format("{}: not a sweep result (expected the JSON that sdfbrick sweep writes)", where));
+    const auto shard = doc.find("shard");
+    if (shard == doc.end() || !shard->is_object()) throw InputError(fmt::format("{}: /shard: expected an object", where));
+    ShardDocument d{&doc["spec"], count_field(*shard, "index", where, "/shard"), count_field(*shard, "count", where, "/shard"),
+                    count_field(doc, "grid_points", where, "")};
+    if (d.count == 0 || d.index >= d.count)
+        throw InputError(fmt::format("{}: /shard: index {} of {} shards is out of range", where, d.index, d.count));
+    return d;
 }
 
 }  // namespace
@@ -306,26 +351,18 @@ Merged merge(const std::vector<nlohmann::json>& documents, const std::vector<std
     Merged out;
     std::map<std::string, SweepRow> by_key;
     std::set<std::size_t> shards;
-    std::optional<nlohmann::json> spec;
+    std::optional<ShardDocument> first;
     bool one_spec = true;
-    std::size_t shard_count = 0, grid_points = 0;
     for (std::size_t d = 0; d < documents.size(); ++d) {
-        const nlohmann::json& doc = documents[d];
-        if (!doc.is_object() || doc.value("command", "") != "sweep" || !doc.contains("points") || !doc["points"].is_array())
-            throw InputError(fmt::format("{}: not a sweep result (expected the JSON that sdfbrick sweep writes)", where[d]));
-        if (!spec) {
-            spec = doc.at("spec");
-            shard_count = doc.at("shard").value("count", std::size_t{1});
-            grid_points = doc.value("grid_points", std::size_t{0});
-        } else if (doc.at("spec") != *spec || doc.at("shard").value("count", std::size_t{1}) != shard_count) {
-            one_spec = false;
-        }
-        const std::size_t shard = doc.at("shard").value("index", 0);
-        if (!shards.insert(shard).second && one_spec)
-            out.notes.push_back(fmt::format("{}: shard {} appears more than once", where[d], shard));
-        merge_points(doc["points"], where[d], by_key, out.notes);
+        const ShardDocument doc = read_shard_document(documents[d], where[d]);
+        if (!first) first = doc;
+        else if (*doc.spec != *first->spec || doc.count != first->count) one_spec = false;
+        if (!shards.insert(doc.index).second && one_spec)
+            out.notes.push_back(fmt::format("{}: shard {} appears more than once", where[d], doc.index));
+        merge_points(documents[d]["points"], where[d], by_key, out.notes);
     }
     for (auto& [key, row] : by_key) out.rows.push_back(std::move(row));
+    const std::size_t shard_count = first ? first->count : 0, grid_points = first ? first->grid_points : 0;
     if (one_spec) {
         std::stable_sort(out.rows.begin(), out.rows.end(),
                          [](const SweepRow& a, const SweepRow& b) { return a.index < b.index; });

@@ -23,7 +23,12 @@ namespace sdfbrick::sweep {
 // cut short) is ignored, and so is a row that does not read back.
 class ResultCache {
 public:
+    // Opens (or creates) the cache file at once, refusing a link or a special file there
+    // (open_journal), and reads the rows it holds.
     explicit ResultCache(std::filesystem::path path);
+    ~ResultCache();
+    ResultCache(const ResultCache&) = delete;
+    ResultCache& operator=(const ResultCache&) = delete;
     const SweepRow* find(const std::string& key) const;
     void add(const std::string& key, const SweepRow& row);
     std::size_t size() const { return rows_.size(); }
@@ -31,6 +36,7 @@ public:
 private:
     std::filesystem::path path_;
     std::map<std::string, SweepRow> rows_;
+    int fd_ = -1;       // the file, opened to append
     bool cut_ = false;  // the file does not end with a line break (a write cut short)
 };
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -97,16 +98,24 @@ std::string picture_path(const std::string& folder, const std::string& name) {
     return (std::filesystem::path(folder) / (name + (image_io_has_oiio() ? ".png" : ".ppm"))).string();
 }
 
+// A picture encoded now, to be written with the report: a few small files kept as bytes, not images.
+Output picture(const Image& image, const std::string& path) {
+    std::ostringstream bytes;
+    image_output(image, path).write(bytes);
+    return text_output(path, std::move(bytes).str());
+}
+
 // Everything one case runs, with the state its cells share.
 class CaseRun {
 public:
-    CaseRun(const StabilitySpec& spec, const Lists& lists, pipeline::Executor& executor, const StabilityCase& c)
-        : spec_(spec), lists_(lists), executor_(executor), case_(c) {
+    CaseRun(const StabilitySpec& spec, const Lists& lists, pipeline::Executor& executor, const StabilityCase& c,
+            std::vector<Output>& pictures)
+        : spec_(spec), lists_(lists), executor_(executor), case_(c), pictures_(pictures) {
         const Scene file_scene = load_scene(c.file);
         scene_ = scene_at(file_scene, file_scene.time);
         camera_ = make_camera(scene_.camera, spec.width, spec.height);
         reference_ = executor.lane(0).reference().render(scene_, camera_).image;
-        if (spec.pictures) write_image(normal_image(reference_), picture_path(*spec.pictures, name() + "-reference"));
+        if (spec.pictures) pictures_.push_back(picture(normal_image(reference_), picture_path(*spec.pictures, name() + "-reference")));
     }
 
     std::string name() const { return std::filesystem::path(case_.file).stem().string(); }
@@ -197,11 +206,11 @@ private:
                c.normals == (has_default ? def : lists_.normals.front());
     }
 
-    void write_pictures(const StabilityCell& c, const RenderBuffer& buffer, std::span<const double> voxels) const {
+    void write_pictures(const StabilityCell& c, const RenderBuffer& buffer, std::span<const double> voxels) {
         const std::string stem = name() + "-" + std::string(render::to_string(c.method));
-        write_image(normal_image(buffer), picture_path(*spec_.pictures, stem));
-        write_image(reference::difference_image(buffer, reference_, voxels),
-                    picture_path(*spec_.pictures, stem + "-difference"));
+        pictures_.push_back(picture(normal_image(buffer), picture_path(*spec_.pictures, stem)));
+        pictures_.push_back(picture(reference::difference_image(buffer, reference_, voxels),
+                                    picture_path(*spec_.pictures, stem + "-difference")));
     }
 
     const StabilitySpec& spec_;
@@ -209,6 +218,7 @@ private:
     pipeline::Executor& executor_;
     std::optional<pipeline::Execution> built_;  // the current build, one per device
     StabilityCase case_;
+    std::vector<Output>& pictures_;
     Scene scene_;
     SdfCamera camera_{};
     RenderBuffer reference_;
@@ -245,7 +255,6 @@ StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices
     if (spec.cases.empty()) throw InputError("stability: no cases");
     if (devices.size() == 0) throw InputError("stability: no device");
     validate_image_size(spec.width, spec.height);
-    if (spec.pictures) std::filesystem::create_directories(*spec.pictures);
     const Lists lists = resolve_lists(spec);
     const auto start = std::chrono::steady_clock::now();
     StabilityReport report;
@@ -261,7 +270,7 @@ StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices
     StabilityProgress p;
     p.total = spec.cases.size() * lists.builds.size() * lists.methods.size() * lists.normals.size();
     for (const StabilityCase& c : spec.cases) {
-        CaseRun run(spec, lists, executor, c);
+        CaseRun run(spec, lists, executor, c, report.pictures);
         for (const BuildChoice& b : lists.builds) {
             p.current = fmt::format("{} {} {}", run.name(), construct::to_string(b.format), b.adaptive ? "adaptive" : "uniform");
             if (progress) progress(p);

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/files.h"
 #include "cl/device.h"
 #include "construct/brick_layout.h"
 #include "reference/accuracy.h"
@@ -80,6 +81,9 @@ struct StabilityReport {
     double tolerance_voxels = 0.0;
     std::vector<StabilityCell> cells;  // cases outermost, then formats, builds, methods, normals
     double seconds = 0.0;              // wall time of the whole run
+    // With spec.pictures, each case's pictures, encoded and ready to write (into that folder) with the
+    // report, all or none: run_stability itself writes nothing.
+    std::vector<Output> pictures;
 };
 
 struct StabilityProgress {

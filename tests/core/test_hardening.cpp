@@ -1,11 +1,13 @@
 // core/ against hostile input: reading special and huge files, writing several outputs as one,
 // echoing input in messages, and the keyed hash of the program cache.
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
@@ -49,7 +51,7 @@ TEST(CoreFiles, ReadRefusesFilesOverTheLimitBeforeReadingThem) {
 
 TEST(CoreFiles, WriteAllWritesEveryOutputOrNone) {
     const fs::path dir = test::temp_dir("core_files_all");
-    const Output failing{dir / "b.txt", [](const fs::path&) { throw InputError("b.txt: cannot write: refused"); }};
+    const Output failing{dir / "b.txt", [](std::ostream&) { throw InputError("b.txt: cannot write: refused"); }};
     EXPECT_THROW(write_all({text_output(dir / "a.txt", "a"), failing}), InputError);
     EXPECT_TRUE(fs::is_empty(dir)) << "a failed write left a file behind";
     write_all({text_output(dir / "a.txt", "a"), text_output(dir / "b.txt", "b")});
@@ -72,6 +74,66 @@ TEST(CoreFiles, SpecialFilesAreWrittenInPlaceAndTheirErrorsReported) {
     EXPECT_THROW(check_output_path(dir), InputError);
     EXPECT_THROW(check_output_path(dir / "missing" / "x.json"), InputError);
     EXPECT_NO_THROW(check_output_path(dir / "x.json"));
+}
+
+// Temporary files are created exclusively under names no one can predict: a link planted at the
+// names earlier versions used (.STEM.tmp-PID.EXT) is never followed, and an output path that is a
+// link is replaced by the file, its target left alone.
+TEST(CoreFiles, WritesNeverFollowAPlantedLink) {
+    const fs::path dir = test::temp_dir("core_files_links");
+    test::write_text(dir / "victim", "precious");
+    fs::create_symlink(dir / "victim", dir / fmt::format(".out.tmp-{}.txt", static_cast<long>(::getpid())));
+    fs::create_symlink(dir / "victim", dir / "link.txt");
+    write_all({text_output(dir / "out.txt", "new"), text_output(dir / "link.txt", "mine")});
+    EXPECT_EQ(read_file(dir / "victim"), "precious");
+    EXPECT_EQ(read_file(dir / "out.txt"), "new");
+    EXPECT_FALSE(fs::is_symlink(dir / "link.txt"));
+    EXPECT_EQ(read_file(dir / "link.txt"), "mine");
+    std::size_t files = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+    EXPECT_EQ(files, 4u) << "a temporary file was left behind";
+}
+
+// A FIFO without a reader is refused at once, never waited on; a journal (the sweep cache) is never
+// written through a link planted at its path, nor into anything but a regular file.
+TEST(CoreFiles, FifoWithoutReaderAndLinkedJournalAreRefused) {
+    const fs::path dir = test::temp_dir("core_files_fifo_journal");
+    ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+    try {
+        write_all({text_output(dir / "fifo", "x")});
+        FAIL() << "writing to a FIFO without a reader succeeded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("a FIFO with no reader"), std::string::npos) << e.what();
+    }
+    test::write_text(dir / "victim", "precious");
+    fs::create_symlink(dir / "victim", dir / "cache.jsonl");
+    try {
+        open_journal(dir / "cache.jsonl");
+        FAIL() << "a journal was opened through a link";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("a symbolic link"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(open_journal(dir / "fifo"), InputError);
+    EXPECT_THROW(open_journal(dir), InputError);
+    EXPECT_EQ(read_file(dir / "victim"), "precious");
+    const int fd = open_journal(dir / "new.jsonl");
+    EXPECT_GE(fd, 0);
+    ::close(fd);
+    EXPECT_TRUE(fs::is_regular_file(dir / "new.jsonl"));
+}
+
+// lies_within resolves links and `..` before comparing.
+TEST(CoreFiles, LiesWithinResolvesLinksAndDots) {
+    const fs::path dir = test::temp_dir("core_files_within");
+    fs::create_directories(dir / "a" / "b");
+    fs::create_directories(dir / "c");
+    fs::create_symlink(dir / "c", dir / "a" / "out");
+    EXPECT_TRUE(lies_within(dir / "a" / "b" / "x", dir / "a"));
+    EXPECT_TRUE(lies_within(dir / "a", dir / "a"));
+    EXPECT_FALSE(lies_within(dir / "a" / ".." / "c" / "x", dir / "a"));
+    EXPECT_FALSE(lies_within(dir / "a" / "out" / "x", dir / "a"));
+    EXPECT_FALSE(lies_within(dir / "ab", dir / "a"));
+    EXPECT_TRUE(lies_within(dir / "a" / "b", dir / "a" / ""));
 }
 
 TEST(CoreQuote, EchoedInputIsOneBoundedPrintableLine) {
