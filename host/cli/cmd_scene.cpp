@@ -65,7 +65,7 @@ void run_generate(const GenerateOptions& o) {
 
 }  // namespace
 
-void add_scene_commands(CLI::App& app, const GlobalOptions&) {
+void add_scene_commands(CLI::App& app, const GlobalOptions& global) {
     auto* scene = app.add_subcommand("scene", "Inspect and generate scene files (see docs/scene-format.md)");
     scene->require_subcommand(1);
 
@@ -82,7 +82,10 @@ void add_scene_commands(CLI::App& app, const GlobalOptions&) {
     cmd_info->add_option("--branching", info->branching, "branching factor per axis for --bricks")
         ->check(CLI::IsMember({2, 4}));
     add_setting_flags(cmd_info, {{"leaf_size", "--bricks"}, {"branching", "--branching"}});
-    cmd_info->callback([info] { run_info(*info); });
+    cmd_info->callback([info, &global] {
+        apply_global_options(global);
+        run_info(*info);
+    });
 
     auto gen = std::make_shared<GenerateOptions>();
     auto* cmd_gen = scene->add_subcommand(

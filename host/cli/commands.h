@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -24,9 +25,10 @@ struct GlobalOptions {
     std::optional<std::string> tuning_db;  // tuning database file (default: tune::TuningDb::default_path())
     bool no_tuning = false;                // ignore the tuning database
     std::string devices = "replicate";     // --devices: replicate or split
+    std::vector<std::string> allow_outside;  // folders outside a scene's own whose meshes it may read
 };
 
-// Applies options that change library state (kernel directory). Verbs that use a device call it.
+// Applies options that change library state (kernel directory, folders allowed for meshes). Verbs that use a device call it.
 // splits: whether the verb can share its job among devices (--devices split); others refuse it.
 void apply_global_options(const GlobalOptions& global, bool splits = false);
 

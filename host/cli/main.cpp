@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
     app.add_option("--tuning-db", global.tuning_db,
                    "tuning database to read (and, for tune, to write); default: $SDFBRICK_TUNING_DB, else "
                    "$XDG_CONFIG_HOME/sdfbrick/tuning.json or ~/.config/sdfbrick/tuning.json");
+    app.add_option("--allow-outside", global.allow_outside,
+                   "a folder outside the scene file's own whose mesh files scenes may name (repeatable; "
+                   "by default a scene reads meshes only from its own folder and below)");
     app.add_flag("--no-tuning", global.no_tuning, "ignore the tuning database: built-in defaults for every parameter not given");
     cli::add_devices_command(app, global);
     cli::add_scene_commands(app, global);
@@ -54,6 +57,7 @@ int main(int argc, char** argv) {
         // the terminal would land in an output file.
         if (::fcntl(STDOUT_FILENO, F_GETFD) == -1) throw InputError("standard output is closed");
         fault::check();
+        install_output_cleanup();  // a signal mid-write removes the temporary files it began
         app.parse(argc, argv);
         finish_stdout();
         return 0;

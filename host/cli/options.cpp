@@ -9,6 +9,7 @@
 #include "cl/kernel_source.h"
 #include "cli/commands.h"
 #include "core/quote.h"
+#include "scene/scene_json.h"
 
 namespace sdfbrick::cli {
 
@@ -49,6 +50,14 @@ std::string setting_error_line(const CLI::App& app, const SettingError& e) {
 
 void apply_global_options(const GlobalOptions& global, bool splits) {
     if (global.kernel_dir) ocl::set_kernel_dir(std::filesystem::path(*global.kernel_dir));
+    std::vector<std::filesystem::path> folders;
+    for (const std::string& f : global.allow_outside) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(f, ec))
+            throw InputError(fmt::format("--allow-outside {}: not a folder", escaped(f)));
+        folders.emplace_back(f);
+    }
+    allow_mesh_folders(std::move(folders));
     if (placement(global) == pipeline::Placement::split && !splits)
         throw InputError("--devices split: only build, render, export and sample share one job among devices");
 }

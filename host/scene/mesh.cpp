@@ -2,12 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
+#include <optional>
+#include <sstream>
+#include <string_view>
 #include <map>
 #include <numbers>
 #include <tuple>
 #include <utility>
 
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -62,25 +68,134 @@ void add_mesh(const aiMesh& m, const std::filesystem::path& path, Welder& welder
     }
 }
 
+// Bytes one value of a PLY scalar type takes in a binary file; 0 for an unknown type.
+std::size_t ply_type_bytes(std::string_view type) {
+    static const std::map<std::string_view, std::size_t> sizes = {
+        {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2}, {"int16", 2},
+        {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4}, {"float", 4}, {"float32", 4},
+        {"double", 8}, {"float64", 8}};
+    const auto it = sizes.find(type);
+    return it == sizes.end() ? 0 : it->second;
+}
+
+// Refuses a PLY file whose header promises more elements than its body can hold (before Assimp
+// allocates for them): each element takes at least the bytes of its scalar properties and list
+// counts (binary), or two characters per property (ASCII: a digit and a separator), and never less
+// than one byte. Also refuses a header that never ends (Assimp 5.2 does not return on one).
+void check_ply_header(std::string_view bytes, const std::filesystem::path& path) {
+    const auto fail = [&](const std::string& why) { return InputError(fmt::format("{}: cannot read mesh: {}", path.string(), why)); };
+    const std::size_t end = bytes.find("end_header");
+    if (end == std::string_view::npos) throw fail("a PLY header without end_header");
+    const std::size_t body_start = std::min(bytes.size(), bytes.find('\n', end) == std::string_view::npos ? bytes.size() : bytes.find('\n', end) + 1);
+    std::istringstream header{std::string(bytes.substr(0, end))};
+    bool ascii = false;
+    std::vector<std::pair<std::string, double>> elements;  // name, count
+    std::vector<double> least;                             // bytes each element takes at least
+    for (std::string line; std::getline(header, line);) {
+        std::istringstream words(line);
+        std::string word, a, b;
+        words >> word >> a >> b;
+        if (word == "format") ascii = a == "ascii";
+        else if (word == "element") {
+            double count = -1;
+            if (!(std::istringstream(b) >> count) || count < 0) throw fail(fmt::format("element {}: a count that is not a number", a));
+            elements.emplace_back(a, count);
+            least.push_back(0);
+        } else if (word == "property" && !least.empty())
+            least.back() += ascii ? 2.0 : static_cast<double>(ply_type_bytes(a == "list" ? b : a));
+    }
+    double need = 0;
+    for (std::size_t e = 0; e < elements.size(); ++e) need += elements[e].second * std::max(1.0, least[e]);
+    const std::size_t body = bytes.size() - body_start;
+    if (need > static_cast<double>(body)) {
+        std::string counts;
+        for (const auto& [name, count] : elements) counts += fmt::format("{}{} {:.0f}", counts.empty() ? "" : ", ", name, count);
+        throw fail(fmt::format("the {} PLY header declares {}: at least {:.0f} bytes, but {} bytes follow it",
+                               ascii ? "ASCII" : "binary", counts, need, body));
+    }
+}
+
+// ---- reading mesh files ----
+
+// An Assimp stream over bytes already read (read_file: regular files only, size-capped).
+class BytesStream final : public Assimp::IOStream {
+public:
+    explicit BytesStream(std::string bytes) : bytes_(std::move(bytes)) {}
+    size_t Read(void* out, size_t size, size_t count) override {
+        if (size == 0) return 0;
+        const size_t n = std::min(count, (bytes_.size() - pos_) / size);
+        std::memcpy(out, bytes_.data() + pos_, n * size);
+        pos_ += n * size;
+        return n;
+    }
+    size_t Write(const void*, size_t, size_t) override { return 0; }
+    aiReturn Seek(size_t offset, aiOrigin origin) override {
+        const size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? pos_ : bytes_.size();
+        if (origin == aiOrigin_END ? offset > base : offset > bytes_.size() - base) return aiReturn_FAILURE;
+        pos_ = origin == aiOrigin_END ? base - offset : base + offset;
+        return aiReturn_SUCCESS;
+    }
+    size_t Tell() const override { return pos_; }
+    size_t FileSize() const override { return bytes_.size(); }
+    void Flush() override {}
+
+private:
+    std::string bytes_;
+    size_t pos_ = 0;
+};
+
+// The files a mesh loader may open: regular files inside the mesh file's folder (a glTF buffer, an
+// OBJ material library), each read whole through read_file and so size-capped and never blocking.
+// The first refusal is kept: the loader may carry on without the file, but the mesh is refused.
+class MeshFiles final : public Assimp::IOSystem {
+public:
+    explicit MeshFiles(const std::filesystem::path& mesh) : folder_(canonical_folder(mesh)) {}
+    bool Exists(const char* file) const override {
+        std::error_code ec;
+        return std::filesystem::exists(file, ec);
+    }
+    char getOsSeparator() const override { return '/'; }
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        if (std::string_view(mode).find_first_of("wa+") != std::string_view::npos) return nullptr;
+        try {
+            return new BytesStream(read_file(inside_folder(file)));
+        } catch (const InputError& e) {
+            if (!refusal_) refusal_ = e.what();
+            return nullptr;
+        }
+    }
+    void Close(Assimp::IOStream* stream) override { delete stream; }
+    const std::optional<std::string>& refusal() const { return refusal_; }
+
+private:
+    static std::filesystem::path canonical_folder(const std::filesystem::path& mesh) {
+        std::error_code ec;
+        const std::filesystem::path folder = std::filesystem::weakly_canonical(std::filesystem::absolute(mesh, ec), ec).parent_path();
+        return folder;
+    }
+    std::filesystem::path inside_folder(const std::filesystem::path& file) const {
+        std::error_code ec;
+        const std::filesystem::path real = std::filesystem::weakly_canonical(std::filesystem::absolute(file, ec), ec);
+        if (ec || !lies_within(real, folder_))
+            throw InputError(fmt::format("{}: refused: outside the mesh's folder {}", file.string(), folder_.string()));
+        return real;
+    }
+    std::filesystem::path folder_;
+    std::optional<std::string> refusal_;
+};
+
 }  // namespace
 
 TriangleMesh load_mesh(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw InputError(fmt::format("{}: cannot read mesh: no such file", path.string()));
-    if (path.extension() == ".ply" || path.extension() == ".PLY") {
-        // Assimp 5.2's PLY reader does not return on a header that never ends: refuse it first.
-        std::ifstream in(path, std::ios::binary);
-        std::string head(65536, '\0');
-        in.read(head.data(), static_cast<std::streamsize>(head.size()));
-        head.resize(static_cast<std::size_t>(in.gcount()));
-        if (head.find("end_header") == std::string::npos)
-            throw InputError(fmt::format("{}: cannot read mesh: a PLY header without end_header", path.string()));
-    }
+    const std::string bytes = read_file(path);
+    if (bytes.starts_with("ply")) check_ply_header(bytes, path);
     Assimp::Importer importer;
+    auto* files = new MeshFiles(path);
+    importer.SetIOHandler(files);  // the importer owns it
     // Triangulated, node transforms baked into the vertices, the data structure validated.
     const aiScene* scene = importer.ReadFile(
         path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
+    if (files->refusal()) throw InputError(fmt::format("{}: cannot read mesh: {}", path.string(), *files->refusal()));
     if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
         std::string why = importer.GetErrorString();
         std::replace(why.begin(), why.end(), '\n', ' ');

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -241,6 +242,18 @@ struct MeshCatalog {
     std::map<std::pair<std::string, int>, Entry> entries;
 };
 
+std::mutex allowed_folders_mutex;
+std::vector<std::filesystem::path> allowed_folders;
+
+// Whether a mesh file may be read: it lies (links resolved) in the scene's folder or in a folder
+// allowed outside it.
+bool mesh_file_allowed(const std::filesystem::path& path, const std::filesystem::path& base) {
+    if (lies_within(path, base.empty() ? std::filesystem::path(".") : base)) return true;
+    const std::scoped_lock lock(allowed_folders_mutex);
+    return std::any_of(allowed_folders.begin(), allowed_folders.end(),
+                       [&](const std::filesystem::path& f) { return lies_within(path, f); });
+}
+
 // The mesh a mesh edit's "file" names. Every refusal names the place in the scene, then the file
 // (load_mesh and make_mesh_source name it first in their messages).
 std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesystem::path& path, int resolution) {
@@ -274,6 +287,10 @@ Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
     const int resolution =
         n.has("resolution") ? n["resolution"].integer(2, kMaxMeshResolution) : kDefaultMeshResolution;
     const std::filesystem::path path = (catalog.base / name).lexically_normal();
+    if (!mesh_file_allowed(path, catalog.base))
+        file.fail(fmt::format("{}: refused: outside the scene's folder{} and the folders allowed outside it",
+                              escaped(path.string(), kPathEchoLimit),
+                              catalog.base.empty() ? "" : " " + escaped(catalog.base.string(), kPathEchoLimit)));
     const auto key = std::pair(path.string(), resolution);
     auto it = catalog.entries.find(key);
     if (it == catalog.entries.end()) {
@@ -496,6 +513,11 @@ json parse_json_text(std::string_view text, std::string_view origin) {
 }
 
 json load_json(const std::filesystem::path& path) { return parse_json_text(read_file(path), path.string()); }
+
+void allow_mesh_folders(std::vector<std::filesystem::path> folders) {
+    const std::scoped_lock lock(allowed_folders_mutex);
+    allowed_folders = std::move(folders);
+}
 
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base) {
     return scene_from_json(parse_json_text(text, origin), escaped(origin, kPathEchoLimit), base);

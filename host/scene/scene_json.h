@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -21,10 +22,16 @@ inline constexpr int kSceneFormatVersion = 1;
 // constant or distance the kernels compute overflows.
 inline constexpr double kSceneNumberLimit = 1e6;
 
-// Mesh files that a scene names are read relative to the scene file's folder (parse_scene: `base`).
+// Mesh files that a scene names are read relative to the scene file's folder (parse_scene: `base`)
+// and must lie in it (a symbolic link counts where it leads) or in a folder allow_mesh_folders
+// names; any other is refused with an InputError naming the place in the scene.
 Scene load_scene(const std::filesystem::path& path);
 // `origin` names the source in error messages (a file name, or "<string>").
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base = {});
+
+// Folders outside a scene's own folder whose mesh files every later scene read may use (replaces
+// the earlier list; the CLI's --allow-outside).
+void allow_mesh_folders(std::vector<std::filesystem::path> folders);
 
 nlohmann::json scene_to_json(const Scene& s);
 // Readable text: one edit per line, short arrays inline.
