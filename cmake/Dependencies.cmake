@@ -6,10 +6,11 @@ find_package(glm REQUIRED)                          # libglm-dev
 find_package(fmt REQUIRED)                          # libfmt-dev
 find_package(Threads REQUIRED)
 find_package(assimp REQUIRED)                       # libassimp-dev: mesh files (OBJ, PLY, ...)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(sodium REQUIRED IMPORTED_TARGET libsodium)  # libsodium-dev: the program cache's MAC
 if(SDFBRICK_WITH_OIIO)
     # libopenimageio-dev. Through pkg-config: Debian 12's CMake config of OpenImageIO names
     # /usr/include/opencv4 as an include directory, which exists only with OpenCV's headers installed.
-    find_package(PkgConfig REQUIRED)
     pkg_check_modules(OpenImageIO REQUIRED IMPORTED_TARGET OpenImageIO)
 endif()
 if(SDFBRICK_WITH_OPENVDB)

@@ -11,8 +11,10 @@ packages=(
   libassimp-dev
   libopenvdb-dev libnanovdb-dev libboost-iostreams-dev  # OpenVDB's CMake module asks for Boost.Iostreams
   libgtest-dev libbenchmark-dev
+  libsodium-dev
   clang-14 libfuzzer-14-dev
   python3-matplotlib python3-numpy
+  pybind11-dev python3-pybind11 python3-pytest
   slurm-wlm munge
 )
 

@@ -17,7 +17,6 @@
 #include <functional>
 #include <memory>
 #include <mutex>
-#include <random>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -25,6 +24,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <sodium.h>
 
 #include "cl/device.h"
 #include "cl/kernel_source.h"
@@ -310,6 +310,12 @@ void store_on_disk(cl_program program, const std::filesystem::path& file, const 
 
 using SecretKey = std::pair<std::uint64_t, std::uint64_t>;
 
+// The folder that holds the cache's entries and the key that seals them.
+struct CacheDir {
+    std::filesystem::path folder;
+    SecretKey key;
+};
+
 // The key in a secret file: a regular file of this user, private, 32 hex digits and a newline.
 std::optional<SecretKey> read_secret(const std::filesystem::path& secret) {
     struct stat sst{};
@@ -327,62 +333,59 @@ std::optional<SecretKey> read_secret(const std::filesystem::path& secret) {
 
 // Makes a new secret from random bytes. Where there is none yet, the first writer wins (a hard link
 // fails when the file exists) and the others read its key: threads and processes that start on an
-// empty cache at once agree on one key. A damaged secret is replaced.
+// empty cache at once agree on one key. A file at the secret's name that is not such a key is never
+// replaced (it may be someone's own file): the cache is not used.
 std::optional<SecretKey> create_secret(const std::filesystem::path& secret) {
     static std::atomic<unsigned> counter{0};
-    std::random_device random;
+    static const bool sodium_ready = sodium_init() >= 0;
+    if (!sodium_ready) return std::nullopt;
     SecretKey k;
-    k.first = (std::uint64_t{random()} << 32) ^ random();
-    k.second = (std::uint64_t{random()} << 32) ^ random();
+    randombytes_buf(&k, sizeof k);
     const std::filesystem::path temporary =
         secret.string() + fmt::format(".tmp-{}-{}", static_cast<long>(getpid()), counter++);
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
     const std::string line = fmt::format("{:016x}{:016x}\n", k.first, k.second);
     const bool written = fd >= 0 && ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size());
     if (fd >= 0) ::close(fd);
-    std::error_code error;
-    bool placed = written && ::link(temporary.c_str(), secret.c_str()) == 0;
-    if (written && !placed && errno == EEXIST) {
-        if (const auto theirs = read_secret(secret)) {
-            std::filesystem::remove(temporary, error);
-            return theirs;
-        }
-        std::filesystem::rename(temporary, secret, error);  // damaged: replace it
-        placed = !error;
-    }
-    std::filesystem::remove(temporary, error);
+    const bool placed = written && ::link(temporary.c_str(), secret.c_str()) == 0;
+    const bool taken = written && !placed && errno == EEXIST;
+    std::error_code ignored;
+    if (fd >= 0) std::filesystem::remove(temporary, ignored);
+    if (taken) return read_secret(secret);  // another writer's key, or not a key at all
     return placed ? std::optional<SecretKey>(k) : std::nullopt;
 }
 
-// Makes `dir` private to this user (mode 0700: created so, repaired if group or others had access)
-// and returns the seal key held in dir/secret (mode 0600, made with random bytes on first use, and
-// made anew after a repair, since others may have read it). std::nullopt, with the reason in `note`,
-// when the directory cannot be used: it is not a directory, or another user owns it.
-std::optional<SecretKey> open_cache_dir(const std::filesystem::path& dir, std::string& note) {
+// A folder this user owns and nobody else may enter: mode 0700, not a symbolic link.
+bool private_folder(const std::filesystem::path& dir) {
+    struct stat st{};
+    return ::lstat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode) && st.st_uid == ::geteuid() && (st.st_mode & 077) == 0;
+}
+
+// Where the cache's entries go: `dir` itself when it is a private folder of this user (made so when
+// it does not exist), else a private subfolder "sdfbrick-UID" made inside it (a shared folder such as
+// /tmp). An existing folder is never changed (no chmod) and no file in it is replaced or removed.
+// The seal key is held in FOLDER/secret (mode 0600, made with random bytes on first use).
+// std::nullopt, with the reason in `note`, when no such folder can be had.
+std::optional<CacheDir> open_cache_dir(const std::filesystem::path& dir, std::string& note) {
     std::error_code ignored;
     if (!std::filesystem::exists(dir, ignored)) {
         std::filesystem::create_directories(dir.parent_path(), ignored);
         ::mkdir(dir.c_str(), 0700);
     }
-    struct stat st{};
-    if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != ::geteuid()) {
-        note = fmt::format("cache directory {} is not a directory of this user: disk cache not used", dir.string());
-        return std::nullopt;
-    }
-    const std::filesystem::path secret = dir / kSecretFile;
-    if ((st.st_mode & 077) != 0) {
-        if (::chmod(dir.c_str(), 0700) != 0) {
-            note = fmt::format("cache directory {} is open to other users and cannot be made private: disk cache not used",
-                               dir.string());
+    std::filesystem::path folder = std::filesystem::is_symlink(dir, ignored) ? std::filesystem::canonical(dir, ignored) : dir;
+    if (!private_folder(folder)) {
+        folder = dir / fmt::format("sdfbrick-{}", static_cast<long>(::geteuid()));
+        ::mkdir(folder.c_str(), 0700);
+        if (!private_folder(folder)) {
+            note = fmt::format("cache directory {} is not a private folder of this user, nor is {}: disk cache not used",
+                               dir.string(), folder.string());
             return std::nullopt;
         }
-        std::filesystem::remove(secret, ignored);  // others could read it: entries sealed with it are not trusted
-        note = fmt::format("cache directory {} was open to other users (mode {:03o}): made it private (0700) and "
-                           "discarded its entries", dir.string(), st.st_mode & 0777);
     }
-    if (const auto key = read_secret(secret)) return key;
-    if (const auto key = create_secret(secret)) return key;
-    note = fmt::format("cannot write the cache secret {}: disk cache not used", secret.string());
+    const std::filesystem::path secret = folder / kSecretFile;
+    if (auto key = read_secret(secret)) return CacheDir{folder, *key};
+    if (auto key = create_secret(secret)) return CacheDir{folder, *key};
+    note = fmt::format("{} is not a cache key this program made (or cannot be written): disk cache not used", secret.string());
     return std::nullopt;
 }
 
@@ -494,9 +497,9 @@ std::optional<std::filesystem::path> program_cache_dir() {
 std::optional<CacheSeal> cache_seal(const Device& device, std::string_view kernel_file, std::string_view extra_options) {
     const std::optional<std::filesystem::path> dir = program_cache_dir();
     std::string note;
-    const auto key = dir ? open_cache_dir(*dir, note) : std::nullopt;
-    if (!key) return std::nullopt;
-    return CacheSeal{key->first, key->second, program_inputs(device, kernel_file, extra_options).identity};
+    const auto cache = dir ? open_cache_dir(*dir, note) : std::nullopt;
+    if (!cache) return std::nullopt;
+    return CacheSeal{cache->key.first, cache->key.second, program_inputs(device, kernel_file, extra_options).identity};
 }
 
 Program build_program(Device& device, std::string_view kernel_file, std::string_view extra_options) {
@@ -514,9 +517,9 @@ Program build_program(Device& device, std::string_view kernel_file, std::string_
 
     std::optional<CacheSeal> seal;
     if (const std::optional<std::filesystem::path> dir = program_cache_dir()) {
-        if (const auto key = open_cache_dir(*dir, record.cache_note)) {
-            record.cache_file = *dir / (record.key + ".bin");
-            seal = CacheSeal{key->first, key->second, in.identity};
+        if (const auto cache = open_cache_dir(*dir, record.cache_note)) {
+            record.cache_file = cache->folder / (record.key + ".bin");
+            seal = CacheSeal{cache->key.first, cache->key.second, in.identity};
         }
     }
     ProgramHandle program;

@@ -1,6 +1,10 @@
 #include "core/hash.h"
 
+#include <bit>
+#include <stdexcept>
 #include <vector>
+
+#include <sodium.h>
 
 namespace sdfbrick {
 
@@ -15,6 +19,18 @@ std::uint64_t tree_digest(std::span<const std::byte> stream, std::size_t block_b
     // (cl/digest.cpp refuses a device that is not).
     static_assert(std::endian::native == std::endian::little, "tree_digest assumes a little-endian host");
     return tree_digest(std::as_bytes(std::span<const std::uint64_t>(level)), kTreeDigestBlock);
+}
+
+std::uint64_t SipHash24::value() const {
+    static const bool ready = sodium_init() >= 0;
+    if (!ready) throw std::runtime_error("libsodium cannot be initialised");
+    static_assert(crypto_shorthash_KEYBYTES == 16 && crypto_shorthash_BYTES == 8);
+    unsigned char key[16], out[8];
+    for (int i = 0; i < 16; ++i) key[i] = static_cast<unsigned char>(key_[i / 8] >> (8 * (i % 8)));
+    crypto_shorthash(out, reinterpret_cast<const unsigned char*>(message_.data()), message_.size(), key);
+    std::uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | out[i];
+    return v;
 }
 
 }  // namespace sdfbrick

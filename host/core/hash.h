@@ -4,7 +4,6 @@
 #pragma once
 
 #include <array>
-#include <bit>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -44,20 +43,14 @@ private:
 inline constexpr std::size_t kTreeDigestBlock = 4096;
 std::uint64_t tree_digest(std::span<const std::byte> stream, std::size_t block_bytes = kTreeDigestBlock);
 
-// SipHash-2-4 (Aumasson and Bernstein) with a 128-bit key, fed incrementally.
+// SipHash-2-4 (Aumasson and Bernstein) with a 128-bit key, fed incrementally: libsodium's
+// crypto_shorthash over the bytes added (k0 and k1 as the key's little-endian halves).
 class SipHash24 {
 public:
-    SipHash24(std::uint64_t k0, std::uint64_t k1)
-        : v_{k0 ^ 0x736f6d6570736575ull, k1 ^ 0x646f72616e646f6dull, k0 ^ 0x6c7967656e657261ull, k1 ^ 0x7465646279746573ull} {}
+    SipHash24(std::uint64_t k0, std::uint64_t k1) : key_{k0, k1} {}
 
     SipHash24& add(std::string_view s) {
-        for (const char c : s) {
-            tail_ |= std::uint64_t{static_cast<std::uint8_t>(c)} << (8 * (length_ % 8));
-            if (++length_ % 8 == 0) {
-                compress(tail_);
-                tail_ = 0;
-            }
-        }
+        message_.append(s);
         return *this;
     }
     // One part of a multi-part message: its length first, so that part boundaries are unambiguous.
@@ -70,32 +63,12 @@ public:
         }
         return add(std::string_view(bytes, 8)).add(s);
     }
-    std::uint64_t value() const {
-        SipHash24 last = *this;
-        last.compress(last.tail_ | (std::uint64_t{length_ & 0xff} << 56));
-        last.v_[2] ^= 0xff;
-        for (int i = 0; i < 4; ++i) last.round();
-        return last.v_[0] ^ last.v_[1] ^ last.v_[2] ^ last.v_[3];
-    }
+    std::uint64_t value() const;
     std::string hex() const { return fmt::format("{:016x}", value()); }
 
 private:
-    void round() {
-        auto& [v0, v1, v2, v3] = v_;
-        v0 += v1; v1 = std::rotl(v1, 13); v1 ^= v0; v0 = std::rotl(v0, 32);
-        v2 += v3; v3 = std::rotl(v3, 16); v3 ^= v2;
-        v0 += v3; v3 = std::rotl(v3, 21); v3 ^= v0;
-        v2 += v1; v1 = std::rotl(v1, 17); v1 ^= v2; v2 = std::rotl(v2, 32);
-    }
-    void compress(std::uint64_t m) {
-        v_[3] ^= m;
-        round();
-        round();
-        v_[0] ^= m;
-    }
-    std::array<std::uint64_t, 4> v_;
-    std::uint64_t tail_ = 0;
-    std::uint64_t length_ = 0;
+    std::array<std::uint64_t, 2> key_;
+    std::string message_;
 };
 
 }  // namespace sdfbrick

@@ -25,6 +25,7 @@
 #include "cl/launch.h"
 #include "cl/program.h"
 #include "core/errors.h"
+#include "core/files.h"
 #include "test_support.h"
 
 namespace sdfbrick::ocl {
@@ -552,27 +553,51 @@ TEST(ClPrograms, ForgedOrForeignCacheEntriesNeverRun) {
     }
 }
 
-// The cache directory is private: made 0700, repaired (and its entries discarded) when open to others.
-TEST(ClPrograms, CacheDirectoryIsPrivate) {
+// The cache's folder is private: made 0700 when missing. A folder others can enter is never changed:
+// the entries go to a private subfolder made in it. A file at the key's name that is not a key is
+// never replaced (it may be someone's own): the disk cache is not used.
+TEST(ClPrograms, CacheDirectoryIsPrivateAndNeverChanged) {
     const std::filesystem::path dir = test::temp_dir("device_layer_private");
     test::write_text(dir / "kernels" / "probe.cl", std::string("#define PROBE_VALUE 2.0f\n") + kProbeKernel);
     const ScopedKernelDir kernels(dir / "kernels");
-    const ScopedEnv cache(kCacheDirEnv, (dir / "cache").string());
     namespace fs = std::filesystem;
     {
+        const ScopedEnv cache(kCacheDirEnv, (dir / "cache").string());
         DeviceSet set = test::open_test_devices();
         const Program program = build_program(set[0], "probe.cl");
         EXPECT_TRUE(program.record().cache_note.empty()) << program.record().cache_note;
+        EXPECT_EQ(fs::status(dir / "cache").permissions() & fs::perms::all, fs::perms::owner_all);
+        EXPECT_EQ(fs::status(dir / "cache" / "secret").permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
     }
-    EXPECT_EQ(fs::status(dir / "cache").permissions() & fs::perms::all, fs::perms::owner_all);
-    EXPECT_EQ(fs::status(dir / "cache" / "secret").permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::owner_write);
-    fs::permissions(dir / "cache", fs::perms::group_all | fs::perms::others_read | fs::perms::others_exec, fs::perm_options::add);
-    DeviceSet set = test::open_test_devices();
-    const Program program = build_program(set[0], "probe.cl");
-    EXPECT_EQ(program.record().origin, ProgramOrigin::compiled);  // the old secret is not trusted
-    EXPECT_NE(program.record().cache_note.find("made it private"), std::string::npos) << program.record().cache_note;
-    EXPECT_EQ(fs::status(dir / "cache").permissions() & fs::perms::all, fs::perms::owner_all);
-    EXPECT_EQ(run_probe(set[0], program), 2.0f);
+    {  // a shared folder (mode 1777) holding someone's file named like the key
+        fs::create_directories(dir / "shared");
+        fs::permissions(dir / "shared", fs::perms::all | fs::perms::sticky_bit);
+        test::write_text(dir / "shared" / "secret", "not a key\n");
+        const ScopedEnv cache(kCacheDirEnv, (dir / "shared").string());
+        DeviceSet set = test::open_test_devices();
+        const Program program = build_program(set[0], "probe.cl");
+        EXPECT_TRUE(program.record().cache_note.empty()) << program.record().cache_note;
+        EXPECT_EQ(fs::status(dir / "shared").permissions(), fs::perms::all | fs::perms::sticky_bit);
+        EXPECT_EQ(read_file(dir / "shared" / "secret"), "not a key\n");
+        ASSERT_TRUE(program.record().cache_file.has_value());
+        const fs::path private_dir = program.record().cache_file->parent_path();
+        EXPECT_EQ(private_dir.parent_path(), dir / "shared");
+        EXPECT_EQ(fs::symlink_status(private_dir).permissions() & fs::perms::all, fs::perms::owner_all);
+        EXPECT_EQ(run_probe(set[0], program), 2.0f);
+    }
+    {  // a private folder of the user's own, with a file named like the key that is not one
+        fs::create_directories(dir / "mine");
+        fs::permissions(dir / "mine", fs::perms::owner_all, fs::perm_options::replace);
+        test::write_text(dir / "mine" / "secret", "my own notes\n");
+        const ScopedEnv cache(kCacheDirEnv, (dir / "mine").string());
+        DeviceSet set = test::open_test_devices();
+        const Program program = build_program(set[0], "probe.cl");
+        EXPECT_EQ(program.record().origin, ProgramOrigin::compiled);
+        EXPECT_NE(program.record().cache_note.find("not a cache key"), std::string::npos) << program.record().cache_note;
+        EXPECT_FALSE(program.record().cache_file.has_value());
+        EXPECT_EQ(read_file(dir / "mine" / "secret"), "my own notes\n");
+        EXPECT_EQ(run_probe(set[0], program), 2.0f);
+    }
 }
 
 TEST(ClPrograms, DiskCacheCanBeSwitchedOff) {
