@@ -21,22 +21,11 @@
 #include "scene/scene.h"
 #include "sdf_types.h"
 #include "image/render_buffer.h"
+#include "render/methods.h"
 #include "render/pictures.h"
 #include "render/warnings.h"
 
 namespace sdfbrick::render {
-
-enum class Method { sphere, analytic, hybrid };         // in-brick surface search (kernels/sdf_trace.h METHOD)
-enum class NormalMethod { central, tetra, continuous };  // see kernels/sdf_trace.h
-inline constexpr std::array<Method, 3> kMethods{Method::sphere, Method::analytic, Method::hybrid};
-inline constexpr std::array<NormalMethod, 3> kNormalMethods{NormalMethod::central, NormalMethod::tetra,
-                                                            NormalMethod::continuous};
-std::string_view to_string(Method m);
-std::string_view to_string(NormalMethod n);
-std::optional<Method> method_from_string(std::string_view s);
-std::optional<NormalMethod> normals_from_string(std::string_view s);
-// "sphere, analytic or hybrid" (sep ", ", last " or "): the method names for messages and help.
-std::string method_names(std::string_view last = " or ");
 
 // Every geometry's bricks (construction), their trees and the top level (bvh), and the arrays the
 // tracer reads: one pool for all geometries and a table of SdfBrickGeometry.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <chrono>
+#include <csignal>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -11,6 +13,11 @@
 #include <numbers>
 #include <tuple>
 #include <utility>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <assimp/IOStream.hpp>
 #include <assimp/IOSystem.hpp>
@@ -21,6 +28,7 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "core/quote.h"
 
 namespace sdfbrick {
 
@@ -47,25 +55,52 @@ private:
     std::map<std::tuple<double, double, double>, std::uint32_t> index_;
 };
 
-void add_mesh(const aiMesh& m, const std::filesystem::path& path, Welder& welder, TriangleMesh& out) {
+// Adds a mesh's polygons as triangles (fans: a polygon of n corners gives n - 2) with its vertices
+// placed by the node transform `to_scene` (applied in double precision; the identity keeps them
+// exact). Corners are checked against the vertex count: nothing from the file is trusted.
+void add_mesh(const aiMesh& m, const glm::dmat4& to_scene, bool identity, const std::filesystem::path& path,
+              Welder& welder, TriangleMesh& out) {
+    std::vector<glm::dvec3> placed(m.mNumVertices);
     for (unsigned v = 0; v < m.mNumVertices; ++v) {
         const aiVector3D& p = m.mVertices[v];
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        placed[v] = identity ? glm::dvec3(p.x, p.y, p.z) : glm::dvec3(to_scene * glm::dvec4(p.x, p.y, p.z, 1.0));
+        if (!std::isfinite(placed[v].x) || !std::isfinite(placed[v].y) || !std::isfinite(placed[v].z))
             throw InputError(fmt::format("{}: vertex {} is not finite ({}, {}, {})", path.string(), v, p.x, p.y, p.z));
     }
     for (unsigned f = 0; f < m.mNumFaces; ++f) {
         const aiFace& face = m.mFaces[f];
-        if (face.mNumIndices != 3) continue;  // points and lines have no surface
-        std::array<std::uint32_t, 3> t{};
-        for (int c = 0; c < 3; ++c) {
-            const aiVector3D& p = m.mVertices[face.mIndices[c]];
-            t[c] = welder.add(glm::dvec3(p.x, p.y, p.z));
+        for (unsigned c = 0; c < face.mNumIndices; ++c)
+            if (face.mIndices[c] >= m.mNumVertices)
+                throw InputError(fmt::format("{}: face {} names vertex {} of {}", path.string(), f, face.mIndices[c], m.mNumVertices));
+        for (unsigned c = 2; c < face.mNumIndices; ++c) {  // points and lines have no surface
+            const std::array<std::uint32_t, 3> t = {welder.add(placed[face.mIndices[0]]), welder.add(placed[face.mIndices[c - 1]]),
+                                                    welder.add(placed[face.mIndices[c]])};
+            if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+            if (out.triangles.size() == kMaxMeshTriangles)
+                throw InputError(fmt::format("{}: more than {} triangles", path.string(), kMaxMeshTriangles));
+            out.triangles.push_back(t);
         }
-        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
-        if (out.triangles.size() == kMaxMeshTriangles)
-            throw InputError(fmt::format("{}: more than {} triangles", path.string(), kMaxMeshTriangles));
-        out.triangles.push_back(t);
     }
+}
+
+// Adds the meshes of a node and its children, each placed by the product of the node transforms
+// above it (a mesh that several nodes name is added once per node, as instances are).
+void add_node(const aiScene& scene, const aiNode& node, const glm::dmat4& parent, int depth,
+              const std::filesystem::path& path, Welder& welder, TriangleMesh& out) {
+    if (depth > 256) throw InputError(fmt::format("{}: nodes nested more than 256 deep", path.string()));
+    const aiMatrix4x4& t = node.mTransformation;
+    glm::dmat4 local(1.0);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) local[c][r] = t[r][c];  // aiMatrix4x4 is row-major, glm column-major
+    const glm::dmat4 to_scene = parent * local;
+    const bool identity = to_scene == glm::dmat4(1.0);
+    for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+        if (node.mMeshes[i] >= scene.mNumMeshes)
+            throw InputError(fmt::format("{}: a node names mesh {} of {}", path.string(), node.mMeshes[i], scene.mNumMeshes));
+        add_mesh(*scene.mMeshes[node.mMeshes[i]], to_scene, identity, path, welder, out);
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+        if (node.mChildren[c]) add_node(scene, *node.mChildren[c], to_scene, depth + 1, path, welder, out);
 }
 
 // Bytes one value of a PLY scalar type takes in a binary file; 0 for an unknown type.
@@ -98,7 +133,7 @@ void check_ply_header(std::string_view bytes, const std::filesystem::path& path)
         if (word == "format") ascii = a == "ascii";
         else if (word == "element") {
             double count = -1;
-            if (!(std::istringstream(b) >> count) || count < 0) throw fail(fmt::format("element {}: a count that is not a number", a));
+            if (!(std::istringstream(b) >> count) || count < 0) throw fail(fmt::format("element {}: a count that is not a number", escaped(a)));
             elements.emplace_back(a, count);
             least.push_back(0);
         } else if (word == "property" && !least.empty())
@@ -111,7 +146,7 @@ void check_ply_header(std::string_view bytes, const std::filesystem::path& path)
         std::string counts;
         for (const auto& [name, count] : elements) counts += fmt::format("{}{} {:.0f}", counts.empty() ? "" : ", ", name, count);
         throw fail(fmt::format("the {} PLY header declares {}: at least {:.0f} bytes, but {} bytes follow it",
-                               ascii ? "ASCII" : "binary", counts, need, body));
+                               ascii ? "ASCII" : "binary", escaped(counts, 256), need, body));
     }
 }
 
@@ -184,26 +219,136 @@ private:
     std::optional<std::string> refusal_;
 };
 
-}  // namespace
 
-TriangleMesh load_mesh(const std::filesystem::path& path) {
-    const std::string bytes = read_file(path);
-    if (bytes.starts_with("ply")) check_ply_header(bytes, path);
+// Reads the mesh with Assimp in this process: the file's folder as its file system, the data
+// structure validated; polygons and node transforms are handled here (add_node), not by Assimp's
+// post-processing, whose assertions abort on some malformed files.
+TriangleMesh read_with_assimp(const std::filesystem::path& path) {
     Assimp::Importer importer;
     auto* files = new MeshFiles(path);
     importer.SetIOHandler(files);  // the importer owns it
-    // Triangulated, node transforms baked into the vertices, the data structure validated.
-    const aiScene* scene = importer.ReadFile(
-        path.string(), aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
-    if (files->refusal()) throw InputError(fmt::format("{}: cannot read mesh: {}", path.string(), *files->refusal()));
+    const aiScene* scene = importer.ReadFile(path.string(), aiProcess_ValidateDataStructure);
+    // What the file names and Assimp's messages echo the file's bytes: escaped.
+    if (files->refusal()) throw InputError(fmt::format("{}: cannot read mesh: {}", path.string(), escaped(*files->refusal(), 512)));
     if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0) {
-        std::string why = importer.GetErrorString();
-        std::replace(why.begin(), why.end(), '\n', ' ');
-        throw InputError(fmt::format("{}: cannot read mesh: {}", path.string(), why.empty() ? "no scene" : why));
+        const std::string why = importer.GetErrorString();
+        throw InputError(fmt::format("{}: cannot read mesh: {}", path.string(), why.empty() ? "no scene" : escaped(why, 512)));
     }
     TriangleMesh out;
     Welder welder(out);
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) add_mesh(*scene->mMeshes[m], path, welder, out);
+    if (scene->mRootNode) add_node(*scene, *scene->mRootNode, glm::dmat4(1.0), 0, path, welder, out);
+    return out;
+}
+
+// The reply of the reading process: 'M', the vertex and triangle counts, the vertices (3 doubles
+// each) and the triangles (3 uint32 each); or 'E' and the refusal's message.
+template <class T>
+void append_raw(std::string& out, const T* values, std::size_t count) {
+    if (count > 0) out.append(reinterpret_cast<const char*>(values), count * sizeof(T));
+}
+
+std::string encode_reply(const std::filesystem::path& path) {
+    try {
+        const TriangleMesh m = read_with_assimp(path);
+        std::string out = "M";
+        const std::uint64_t counts[2] = {m.vertices.size(), m.triangles.size()};
+        append_raw(out, counts, 2);
+        append_raw(out, m.vertices.data(), m.vertices.size());
+        append_raw(out, m.triangles.data(), m.triangles.size());
+        return out;
+    } catch (const InputError& e) {
+        return std::string("E") + e.what();
+    } catch (const std::bad_alloc&) {
+        return fmt::format("E{}: cannot read mesh: out of host memory", path.string());
+    } catch (const std::exception& e) {
+        return fmt::format("E{}: cannot read mesh: {}", path.string(), escaped(e.what(), 512));
+    }
+}
+
+TriangleMesh decode_reply(const std::string& reply, const std::filesystem::path& path) {
+    if (!reply.empty() && reply[0] == 'E') throw InputError(reply.substr(1));
+    std::uint64_t counts[2] = {0, 0};
+    const auto broken = [&] { return InputError(fmt::format("{}: cannot read mesh: a broken reply from the reader", path.string())); };
+    if (reply.size() < 1 + sizeof counts || reply[0] != 'M') throw broken();
+    std::memcpy(counts, reply.data() + 1, sizeof counts);
+    const std::size_t at = 1 + sizeof counts;
+    if (counts[0] > reply.size() / sizeof(glm::dvec3) || counts[1] > reply.size() / 12 ||
+        reply.size() != at + counts[0] * sizeof(glm::dvec3) + counts[1] * 12)
+        throw broken();
+    TriangleMesh m;
+    m.vertices.resize(counts[0]);
+    m.triangles.resize(counts[1]);
+    if (counts[0] > 0) std::memcpy(m.vertices.data(), reply.data() + at, counts[0] * sizeof(glm::dvec3));
+    if (counts[1] > 0) std::memcpy(m.triangles.data(), reply.data() + at + counts[0] * sizeof(glm::dvec3), counts[1] * 12);
+    for (const auto& t : m.triangles)
+        for (const std::uint32_t i : t)
+            if (i >= m.vertices.size()) throw broken();
+    return m;
+}
+
+// Reads everything the child writes to fd within the time limit; false on a timeout.
+bool read_reply(int fd, std::string& reply, std::chrono::seconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    char chunk[1 << 16];
+    while (true) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+        if (left.count() <= 0) return false;
+        pollfd p{fd, POLLIN, 0};
+        const int ready = ::poll(&p, 1, static_cast<int>(left.count()));
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready == 0) return false;  // the time is up
+        if (ready < 0) return true;    // the pipe failed: what was read is the reply
+        const ssize_t n = ::read(fd, chunk, sizeof chunk);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return true;
+        reply.append(chunk, static_cast<std::size_t>(n));
+    }
+}
+
+// Assimp runs in a child process: a crash, an assertion or a hang of the reader on a malformed file
+// ends the child, not the program, and becomes a refusal naming the file.
+TriangleMesh read_isolated(const std::filesystem::path& path, int seconds) {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return read_with_assimp(path);  // no pipe: read in this process
+    const pid_t child = ::fork();
+    if (child < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return read_with_assimp(path);
+    }
+    if (child == 0) {
+        ::close(fds[0]);
+        for (const int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) ::signal(sig, SIG_DFL);
+        const std::string reply = encode_reply(path);
+        for (std::size_t done = 0; done < reply.size();) {
+            const ssize_t n = ::write(fds[1], reply.data() + done, reply.size() - done);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) ::_exit(1);
+            done += static_cast<std::size_t>(n);
+        }
+        ::_exit(0);
+    }
+    ::close(fds[1]);
+    std::string reply;
+    const bool in_time = read_reply(fds[0], reply, std::chrono::seconds(seconds));
+    ::close(fds[0]);
+    if (!in_time) ::kill(child, SIGKILL);
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {}
+    if (!in_time)
+        throw InputError(fmt::format("{}: cannot read mesh: the reader (Assimp) took more than {} s", path.string(), seconds));
+    if (WIFSIGNALED(status))
+        throw InputError(fmt::format("{}: cannot read mesh: the reader (Assimp) crashed on it ({})", path.string(),
+                                     strsignal(WTERMSIG(status))));
+    return decode_reply(reply, path);
+}
+
+}  // namespace
+
+TriangleMesh load_mesh(const std::filesystem::path& path, int seconds) {
+    const std::string bytes = read_file(path);
+    if (bytes.starts_with("ply")) check_ply_header(bytes, path);
+    TriangleMesh out = read_isolated(path, seconds);
     if (out.triangles.empty()) throw InputError(fmt::format("{}: the mesh has no triangles", path.string()));
     return out;
 }

@@ -21,6 +21,8 @@ namespace sdfbrick {
 
 // Most triangles one mesh may hold.
 inline constexpr std::size_t kMaxMeshTriangles = std::size_t{1} << 24;
+// Longest a mesh file may take to read, by default.
+inline constexpr int kMeshReadSeconds = 60;
 
 struct TriangleMesh {
     std::vector<glm::dvec3> vertices;
@@ -29,10 +31,12 @@ struct TriangleMesh {
     Aabb bounds() const;
 };
 
-// Reads a mesh file. Throws InputError naming the file for a missing, unreadable, empty or malformed
-// file, a non-finite vertex (naming it), or more than kMaxMeshTriangles triangles. Degenerate
-// triangles (two equal corners) are dropped.
-TriangleMesh load_mesh(const std::filesystem::path& path);
+// Reads a mesh file (through Assimp, in a child process: a reader that crashes, aborts or takes more
+// than `seconds` on a malformed file is a refusal, not the program's end). Throws InputError
+// naming the file for a missing, unreadable, empty or malformed file, a non-finite vertex (naming
+// it), or more than kMaxMeshTriangles triangles. Polygons become triangle fans; degenerate triangles
+// (two equal corners) are dropped.
+TriangleMesh load_mesh(const std::filesystem::path& path, int seconds = kMeshReadSeconds);
 
 struct MeshTopology {
     std::size_t edges = 0;

@@ -11,7 +11,7 @@
 
 #include "core/errors.h"
 #include "core/quote.h"
-#include "render/brick_tracer.h"
+#include "render/methods.h"
 
 namespace sdfbrick::sweep {
 
@@ -140,9 +140,11 @@ SweepSpec spec_from_json(const nlohmann::json& j, const std::string& where) {
     static const char* const kKeys[] = {"scenes", "brick_sizes", "tolerances", "chunks", "groups", "trace_groups", "cull",
                                         "formats", "samples", "methods", "normals", "devices", "width",
                                         "height", "warmup", "repeat", "accuracy"};
-    for (const auto& [key, value] : j.items())
+    for (const auto& item : j.items()) {
+        const std::string& key = item.key();
         if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return key == k; }) == std::end(kKeys))
             throw InputError(fmt::format("{}: unknown key {}", where, quoted_input(key)));
+    }
     SweepSpec s;
     s.scenes = list<std::string>(j, "scenes", where);
     s.brick_sizes = list<double>(j, "brick_sizes", where);

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
+#include "core/files.h"
 #include "scene/mesh.h"
 #include "scene/scene_json.h"
 #include "test_support.h"
@@ -52,7 +53,7 @@ TEST(SceneMeshFiles, MeshPathsOutsideTheScenesFolderAreRefused) {
     write_obj(icosphere(0.5, 1), dir / "scene" / "inside" / "m.obj");
     fs::create_symlink(dir / "outside" / "m.obj", dir / "scene" / "link.obj");
     const fs::path base = dir / "scene";
-    for (const std::string file : {std::string("../outside/m.obj"), (dir / "outside" / "m.obj").string(), std::string("link.obj"),
+    for (const std::string& file : {std::string("../outside/m.obj"), (dir / "outside" / "m.obj").string(), std::string("link.obj"),
                                    std::string("inside/../../outside/m.obj"), std::string("/etc/passwd")}) {
         const std::string what = error_of([&] { parse_scene(mesh_scene(file), "s.json", base); });
         EXPECT_NE(what.find("s.json: /geometries/0/edits/0/file: "), std::string::npos) << file << ": " << what;
@@ -85,7 +86,7 @@ TEST(SceneMeshFiles, GltfBuffersOutsideTheMeshFolderAreRefused) {
     test::write_text(dir / "secret.bin", bytes);
     test::write_text(dir / "mesh" / "good.gltf", gltf_triangle("tri.bin"));
     EXPECT_EQ(load_mesh(dir / "mesh" / "good.gltf").triangles.size(), 1u);
-    for (const std::string uri : {std::string("../secret.bin"), (dir / "secret.bin").string(), std::string("file:///etc/passwd")}) {
+    for (const std::string& uri : {std::string("../secret.bin"), (dir / "secret.bin").string(), std::string("file:///etc/passwd")}) {
         test::write_text(dir / "mesh" / "bad.gltf", gltf_triangle(uri));
         const std::string what = error_of([&] { load_mesh(dir / "mesh" / "bad.gltf"); });
         EXPECT_NE(what.find("bad.gltf: cannot read mesh"), std::string::npos) << uri << ": " << what;
@@ -123,6 +124,25 @@ TEST(SceneMeshFiles, PlyCountsBeyondTheFilesSizeAreRefusedBeforeLoading) {
     // A PLY whose counts its body can hold is read as before.
     write_ply(icosphere(0.5, 1), dir / "fine.ply");
     EXPECT_EQ(load_mesh(dir / "fine.ply").triangles.size(), 80u);
+}
+
+// The mesh fuzz target's regressions (tests/fuzz/regressions/mesh_reader/: files on which Assimp
+// aborts, crashes or never returns): each is refused with one line, and the program lives on.
+TEST(SceneMeshFiles, FuzzRegressionsAreRefusedAndTheProgramLivesOn) {
+    const fs::path dir = test::temp_dir("scene_mesh_fuzz_regressions");
+    std::size_t count = 0;
+    for (const auto& entry : fs::directory_iterator(fs::path(SDFBRICK_SOURCE_DIR) / "tests" / "fuzz" / "regressions" / "mesh_reader")) {
+        const std::string bytes = read_file(entry.path());
+        ASSERT_FALSE(bytes.empty());
+        const char* extension = bytes[0] == 'p' ? ".ply" : bytes[0] == 'o' ? ".obj" : bytes[0] == 's' ? ".stl" : ".gltf";
+        const fs::path file = dir / (entry.path().stem().string() + extension);
+        test::write_text(file, bytes.substr(1));
+        const std::string what = error_of([&] { load_mesh(file, 3); });
+        EXPECT_NE(what.find(file.string() + ": "), std::string::npos) << entry.path() << ": " << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        ++count;
+    }
+    EXPECT_GE(count, 4u);
 }
 
 }  // namespace

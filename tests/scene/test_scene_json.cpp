@@ -157,11 +157,11 @@ TEST(SceneJson, MissingFileIsInputError) {
 namespace sdfbrick {
 namespace {
 
-// The fuzzer's checked-in regressions (fuzz/regressions/, docs/reliability.md): each is refused with
+// The fuzzer's checked-in regressions (tests/fuzz/regressions/scene_reader/, docs/reliability.md): each is refused with
 // one printable line or read and written back unchanged, as the fuzz target demands.
 TEST(SceneJson, FuzzRegressionsAreRefusedCleanlyOrRoundTrip) {
     std::size_t count = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(SDFBRICK_SOURCE_DIR) / "fuzz" / "regressions")) {
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(SDFBRICK_SOURCE_DIR) / "tests" / "fuzz" / "regressions" / "scene_reader")) {
         ++count;
         const std::string text = read_file(entry.path());
         try {

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "core/errors.h"
+#include "fuzz_check.h"
 #include "scene/scene_info.h"
 #include "scene/scene_json.h"
 
@@ -18,10 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         scene = parse_scene(text, "fuzz.json");
     } catch (const InputError& e) {
-        const std::string_view message = e.what();
-        for (const char c : message)
-            if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) std::abort();
-        if (message.size() > 4096) std::abort();
+        fuzz::check_refusal(e.what());
         return 0;
     }
     const std::string written = format_scene(scene);
