@@ -456,14 +456,13 @@ json check_json(const GateCheck& c) {
             {"new", c.candidate},        {"outcome", to_string(c.outcome)}, {"note", c.note}};
 }
 
-// Markdown text: printable ASCII; in a table cell no cell separator; outside code no HTML.
+// Markdown text: printable ASCII; in a table cell no cell separator; outside code no HTML tag.
 std::string md_text(std::string_view text, bool code, bool cell) {
     std::string out;
     for (const char c : escaped(text, 300)) {
         if (c == '|' && cell) out += "\\|";
         else if (c == '`' && code) out += '\'';
         else if (c == '<' && !code) out += "&lt;";
-        else if (c == '>' && !code) out += "&gt;";
         else out += c;
     }
     return out;
