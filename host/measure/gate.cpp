@@ -95,7 +95,8 @@ std::string value_text(const json& v) {
     if (v.is_null()) return "absent";
     if (v.is_string()) return escaped(v.get<std::string>(), 200);
     if (v.is_number()) return number_text(v.get<double>());
-    if (v.is_object() && v.contains("median_ms"))
+    const auto ms = [&](const char* key) { return v.is_object() && v.contains(key) && v[key].is_number(); };
+    if (ms("median_ms") && ms("min_ms") && ms("max_ms"))
         return fmt::format("{:.4g} [{:.4g}, {:.4g}] ms", v["median_ms"].get<double>(), v["min_ms"].get<double>(),
                            v["max_ms"].get<double>());
     return escaped(v.dump(), 200);
@@ -107,13 +108,33 @@ std::string limit_text(const GateRule& rule) {
     return rule_name(rule.figure).relative ? percent_text(rule.limit) : fmt::format("{:g}", rule.limit);
 }
 
+// ---- the reports ----
+
+// Reports are a few levels deep; the gate walks, compares and prints them recursively, so a report
+// nested deeper than this is refused (an InputError) before it is read.
+constexpr std::size_t kMaxReportDepth = 64;
+
+// Refuses what is not a report: not an object, or nested too deep (checked without recursion).
+void check_report(const json& report, const std::string& file) {
+    if (!report.is_object())
+        throw InputError(fmt::format("{}: expected a JSON object (the report of a build or render)", escaped(file, 160)));
+    std::vector<std::pair<const json*, std::size_t>> stack{{&report, 1}};
+    while (!stack.empty()) {
+        const auto [v, depth] = stack.back();
+        stack.pop_back();
+        if (depth > kMaxReportDepth)
+            throw InputError(fmt::format("{}: nested deeper than {} levels: not a report", escaped(file, 160), kMaxReportDepth));
+        if (v->is_structured())
+            for (const json& child : *v) stack.emplace_back(&child, depth + 1);
+    }
+}
+
 // ---- the runs' setup: scene and settings ----
 
 // Settings that organise the work and change no bit of the output (docs/construction.md): they may
 // differ between the reports, and the differences are noted.
-constexpr std::array<std::string_view, 10> kWorkSettings{"chunk",      "group",    "lanes",
-                                                         "count_parts", "cull",     "skip_far",
-                                                         "apron_share_edits", "dependencies", "repeat", "warmup"};
+constexpr std::array<std::string_view, 10> kWorkSettings{
+    "chunk", "group", "lanes", "count_parts", "cull", "skip_far", "apron_share_edits", "dependencies", "repeat", "warmup"};
 
 struct Names {
     const std::string& base;
@@ -193,17 +214,17 @@ using Figures = std::map<std::string, json>;
 // Parts of a report that hold no gated figure (launch records, device properties, settings,
 // times, the reference tracer's own work).
 bool skipped_part(std::string_view key) {
-    static const std::set<std::string_view> parts{"launches", "kernels",  "device",    "settings", "tuning",
-                                                  "roofline", "reference", "placement", "scene",    "images",
-                                                  "warnings", "stages",   "captures",  "total_ms", "wall_ms",
-                                                  "build_ms", "bvh_ms",   "trace_ms",  "wall_breakdown_ms", "seams"};
+    static const std::set<std::string_view> parts{
+        "launches", "kernels",  "device",  "settings", "tuning",   "roofline", "reference",         "placement", "scene",
+        "images",   "warnings", "stages",  "captures", "total_ms", "wall_ms",  "wall_breakdown_ms", "build_ms",  "bvh_ms",
+        "trace_ms", "seams"};
     return parts.contains(key);
 }
 
 // The work counters: brick and leaf counts (per level too), edit list entries and evaluations, BVH
 // nodes, node visits and brick steps per pixel, rays stopped at the step bound, and bytes of memory.
 bool is_counter(std::string_view parent, std::string_view key) {
-    static const std::set<std::string_view> keys{"bricks",     "leaves",      "edit_entries", "max_edits",
+    static const std::set<std::string_view> keys{"bricks",      "leaves",     "edit_entries", "max_edits",
                                                  "edit_evaluations", "dependency_entries", "nodes", "tlas_nodes",
                                                  "node_visits", "brick_steps", "capped_rays"};
     return parent == "memory" || keys.contains(key);
@@ -570,9 +591,8 @@ std::size_t GateVerdict::count(GateOutcome outcome) const {
 GateVerdict gate_reports(const json& base, const json& candidate, const std::vector<GateRule>& rules,
                          const GateOptions& options, const std::string& base_name, const std::string& candidate_name) {
     const Names names{base_name, candidate_name};
-    for (const auto& [report, file] : {std::pair{&base, &base_name}, std::pair{&candidate, &candidate_name}})
-        if (!report->is_object())
-            throw InputError(fmt::format("{}: expected a JSON object (the report of a build or render)", escaped(*file, 160)));
+    check_report(base, base_name);
+    check_report(candidate, candidate_name);
     GateVerdict v{base_name, candidate_name, rules, compare_setup(base, candidate, names, options), {}};
     for (const GateRule& rule : rules) {
         if (rule.figure == GateFigure::time) {

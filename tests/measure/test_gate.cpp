@@ -171,6 +171,11 @@ TEST(MeasureGate, AFigureARequiredRuleNeedsMustBeInBothReports) {
     // Not a report, or a figure of the wrong type: the place is named.
     e = input_error([&] { gate(json::array(), report()); });
     EXPECT_NE(e.find("base.json: expected a JSON object"), std::string::npos) << e;
+    json deep = report();
+    json* at = &deep["settings"];
+    for (int i = 0; i < 100000; ++i) at = &((*at)["x"] = json::object());
+    e = input_error([&] { gate(report(), deep); });
+    EXPECT_NE(e.find("new.json: nested deeper than 64 levels"), std::string::npos) << e;
     json typed = report();
     typed["geometries"][0]["levels"][1]["bricks"] = "33";
     e = input_error([&] { gate(report(), typed); });
