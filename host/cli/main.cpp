@@ -1,6 +1,6 @@
 // sdfbrick: the command line. Exit status 0 on success, 2 for bad input (a malformed scene, an
-// unknown device, a bad option), 1 for any other failure (an OpenCL error, ...). Every failure is
-// one line on stderr.
+// unknown device, a bad option), 3 for a failed verdict (compare --gate: a regression), 1 for any
+// other failure (an OpenCL error, ...). Every failure is one line on stderr.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -72,6 +72,9 @@ int main(int argc, char** argv) {
     } catch (const InputError& e) {
         std::fprintf(stderr, "sdfbrick: %s\n", e.what());
         return 2;
+    } catch (const VerdictFailure& e) {
+        std::fprintf(stderr, "sdfbrick: %s\n", e.what());
+        return 3;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "sdfbrick: error: out of host memory\n");
         return 1;

@@ -1,6 +1,7 @@
 // Error types shared by the whole library. The CLI maps them to exit codes:
 //   InputError  -> exit 2 (the user's input is wrong: scene file, option value, device name, ...)
 //   SettingError (an InputError) -> exit 2, the line naming the flag that set the setting
+//   VerdictFailure -> exit 3 (the input is sound and was judged: it fails, as compare --gate's regression)
 //   any other std::exception (ClError, ...) -> exit 1
 #pragma once
 
@@ -28,6 +29,13 @@ public:
 
 private:
     std::string setting_;
+};
+
+// A command that judges its input found it failing (compare --gate: the new report regressed). Not
+// an error: the command ran to the end and wrote its outputs. The message is one line saying why.
+class VerdictFailure : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
 };
 
 }  // namespace sdfbrick
