@@ -25,6 +25,9 @@ inline constexpr double kSceneNumberLimit = 1e6;
 Scene load_scene(const std::filesystem::path& path);
 // `origin` names the source in error messages (a file name, or "<string>").
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base = {});
+// The same from parsed JSON (a document made in memory): the same checks and messages, the JSON path
+// after origin.
+Scene scene_from_json(const nlohmann::json& j, std::string_view origin, const std::filesystem::path& base = {});
 
 nlohmann::json scene_to_json(const Scene& s);
 // Readable text: one edit per line, short arrays inline.

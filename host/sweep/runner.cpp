@@ -178,7 +178,7 @@ SweepRow point_row(const SweepSpec& spec, const SweepPoint& p, const ocl::Device
 
 ResultCache::ResultCache(std::filesystem::path path) : path_(std::move(path)) {
     std::error_code ec;
-    if (!std::filesystem::exists(path_, ec)) return;
+    if (path_.empty() || !std::filesystem::exists(path_, ec)) return;
     const std::string text = read_file(path_);
     cut_ = !text.empty() && text.back() != '\n';
     std::istringstream in(text);
@@ -199,6 +199,7 @@ const SweepRow* ResultCache::find(const std::string& key) const {
 
 void ResultCache::add(const std::string& key, const SweepRow& row) {
     rows_[key] = row;
+    if (path_.empty()) return;
     if (path_.has_parent_path()) std::filesystem::create_directories(path_.parent_path());
     std::ofstream out(path_, std::ios::app);
     if (cut_) out << '\n';
