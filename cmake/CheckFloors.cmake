@@ -6,7 +6,7 @@
 # (cmake -DHOST_DIR=<host dir> -P CheckFloors.cmake) runs the check; CTest runs it as Layout.Floors.
 
 cmake_policy(VERSION 3.25)
-set(SDFBRICK_FLOORS "core|cl,scene,image|measure|construct|reference,bvh|render|exchange,pipeline|tune|sweep|cli")
+set(SDFBRICK_FLOORS "core|cl,scene,image|measure|construct|reference,bvh|render|exchange,pipeline|tune|sweep|cli,python")
 
 function(sdfbrick_floor_of folder out)
     string(REPLACE "|" ";" floors "${SDFBRICK_FLOORS}")

@@ -22,6 +22,25 @@ if(SDFBRICK_WITH_NANOVDB)
     # libnanovdb-dev: headers only.
     find_path(NANOVDB_INCLUDE_DIR nanovdb/NanoVDB.h REQUIRED)
 endif()
+# The Python module (pybind11-dev, python3-dev): on by default where pybind11 is found, except in
+# sanitizer builds (the debug preset), whose module an uninstrumented interpreter cannot load. It is
+# built for the system interpreter /usr/bin/python3 unless Python_EXECUTABLE names another.
+if(NOT DEFINED Python_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Interpreter the Python module is built for")
+endif()
+if(NOT DEFINED PYTHON_EXECUTABLE)
+    set(PYTHON_EXECUTABLE "${Python_EXECUTABLE}" CACHE FILEPATH "Interpreter the Python module is built for")
+endif()
+set(PYBIND11_FINDPYTHON ON)
+find_package(pybind11 CONFIG QUIET)
+set(python_default ${pybind11_FOUND})
+if(CMAKE_CXX_FLAGS MATCHES "-fsanitize")
+    set(python_default OFF)
+endif()
+option(SDFBRICK_WITH_PYTHON "Build the Python module sdfbrick (pybind11-dev)" ${python_default})
+if(SDFBRICK_WITH_PYTHON AND NOT pybind11_FOUND)
+    find_package(pybind11 CONFIG REQUIRED)
+endif()
 if(SDFBRICK_BUILD_TESTS)
     find_package(GTest REQUIRED)                    # libgtest-dev
 endif()

@@ -14,7 +14,7 @@ packages=(
   libsodium-dev
   clang-14 libfuzzer-14-dev
   python3-matplotlib python3-numpy
-  pybind11-dev python3-pybind11 python3-pytest
+  pybind11-dev python3-pybind11 python3-pytest  # the Python module (host/python/) and its tests
   slurm-wlm munge
 )
 

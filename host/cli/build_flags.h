@@ -45,6 +45,4 @@ struct MeasureFlags {
     int warmups() const { return warmup.value_or(repeat > 1 ? 1 : 0); }
 };
 
-nlohmann::json settings_json(const construct::BuildSettings& s);
-
 }  // namespace sdfbrick::cli

@@ -14,6 +14,7 @@
 #include "core/files.h"
 #include "exchange/sample.h"
 #include "exchange/vdb.h"
+#include "pipeline/command_report.h"
 #include "pipeline/executor.h"
 #include "tune/apply.h"
 #include "scene/scene_json.h"
@@ -81,7 +82,7 @@ HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global,
 nlohmann::json host_scene_json(const HostScene& h, const SceneOptions& o) {
     return {{"scene", {{"file", o.file}, {"name", h.scene.name}, {"time", h.scene.time}}},
             {"device", h.device},
-            {"settings", settings_json(h.settings)},
+            {"settings", pipeline::settings_json(h.settings)},
             {"bricks", h.brick_count},
             {"pool_bytes", h.pool_bytes},
             {"build_ms", h.build_ms},

@@ -51,31 +51,6 @@ void print_measured(std::size_t n, const tune::Config& c, double ms) {
     say(fmt::format("    {:>3}.{:<24} {}\n", n, params, std::isfinite(ms) ? fmt::format("{:.4f} ms", ms) : "not runnable"));
 }
 
-// Writes the winner to the database and the report, and prints the summary line.
-void record(tune::TuningDb& db, const ocl::DeviceInfo& d, const tune::TuneResult& t, const TuneOptions& o,
-            nlohmann::json& report) {
-    const std::string& kernel = t.kernel->name;
-    if (!t.found()) {
-        say(fmt::format("  {}: no configuration ran; nothing written\n", kernel));
-        return;
-    }
-    tune::Entry entry = tune::make_entry(t, d, o.file, now_iso());
-    nlohmann::json rec = entry.record;
-    db.put(std::move(entry));
-    std::string params;
-    for (const auto& [k, v] : t.result.best) params += fmt::format("{}{} {}", params.empty() ? "" : ", ", k, v);
-    say(fmt::format("  {}: best {} at {:.4f} ms; default {:.4f} ms ({:+.1f}%); {} of {} configurations ({})\n",
-                    kernel, params, t.result.best_cost, t.fallback_cost,
-                    100.0 * (t.result.best_cost - t.fallback_cost) / t.fallback_cost, t.result.evaluated.size(),
-                    t.space, to_string(t.strategy)));
-    nlohmann::json evaluated = nlohmann::json::array();
-    for (const auto& [c, ms] : t.result.evaluated)
-        evaluated.push_back({{"params", c}, {"ms", std::isfinite(ms) ? nlohmann::json(ms) : nlohmann::json(nullptr)}});
-    rec["params"] = t.result.best;
-    rec["evaluated_configurations"] = evaluated;
-    report[kernel] = rec;
-}
-
 // The selected kernels, in the tuner's order.
 std::vector<const tune::TunedKernel*> selected_kernels(const TuneOptions& o) {
     for (const std::string& k : o.kernels)
@@ -84,29 +59,6 @@ std::vector<const tune::TunedKernel*> selected_kernels(const TuneOptions& o) {
     for (const tune::TunedKernel* k : tune::tuned_kernels())
         if (std::find(o.kernels.begin(), o.kernels.end(), k->option) != o.kernels.end()) out.push_back(k);
     return out;
-}
-
-// Tunes the selected kernels on one device; a trace kernel is measured over bricks built with the
-// evaluate kernel's winner.
-nlohmann::json tune_device(ocl::Device& device, const Scene& scene, const std::vector<const tune::TunedKernel*>& kernels,
-                           const construct::BuildSettings& base, const TuneOptions& o, tune::TuningDb& db) {
-    const ocl::DeviceInfo& info = device.info();
-    say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
-    nlohmann::json report = {{"device", info.to_json()}};
-    pipeline::Executor executor(device);
-    pipeline::Lane& lane = executor.lane(0);
-    construct::BuildSettings settings = base;
-    for (const tune::TunedKernel* k : kernels) {
-        if (k->work == pipeline::Work::trace)
-            say(fmt::format("  {} ({}x{}, {}):\n", k->name, o.spec.width, o.spec.height, k->objective_text));
-        else
-            say(fmt::format("  {} ({}):\n", k->name, k->objective_text));
-        const tune::TuneResult t = tune::tune_kernel(*k, lane, scene, settings, o.spec, print_measured);
-        record(db, info, t, o, report);
-        render::TraceSettings unused;
-        if (t.found() && k->work != pipeline::Work::trace) k->apply(t.result.best, settings, unused);
-    }
-    return report;
 }
 
 void run_tune(const TuneOptions& o, const GlobalOptions& global) {
@@ -130,7 +82,11 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     say(fmt::format("tune {} ({}), brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n", scene.name,
                     o.file, base.leaf_size, o.spec.repeat, o.spec.warmup, o.spec.strategy, o.spec.budget));
     nlohmann::json device_reports = nlohmann::json::array();
-    for (ocl::Device& device : devices) device_reports.push_back(tune_device(device, scene, kernels, base, o, db));
+    for (ocl::Device& device : devices) {
+        pipeline::Executor executor(device);
+        device_reports.push_back(
+            tune::tune_device(executor.lane(0), scene, o.file, kernels, base, o.spec, db, now_iso(), say, print_measured));
+    }
     db.save(*choice.path);
     say(fmt::format("tuning database: {}\n", choice.path->string()));
     if (o.json) {

@@ -399,7 +399,7 @@ std::string line_column(std::string_view text, std::size_t byte) {
     return fmt::format("line {}, column {}", line, col);
 }
 
-Scene scene_from_json(const json& j, std::string_view origin, const std::filesystem::path& base) {
+Scene read_scene(const json& j, std::string_view origin, const std::filesystem::path& base) {
     const Node root(j, "", origin);
     root.expect_object({"version", "name", "time", "geometries", "objects", "camera", "light"});
     if (root.has("version")) {
@@ -520,7 +520,11 @@ void allow_mesh_folders(std::vector<std::filesystem::path> folders) {
 }
 
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base) {
-    return scene_from_json(parse_json_text(text, origin), escaped(origin, kPathEchoLimit), base);
+    return read_scene(parse_json_text(text, origin), escaped(origin, kPathEchoLimit), base);
+}
+
+Scene scene_from_json(const json& j, std::string_view origin, const std::filesystem::path& base) {
+    return read_scene(j, escaped(origin, kPathEchoLimit), base);
 }
 
 Scene load_scene(const std::filesystem::path& path) {

@@ -28,6 +28,9 @@ inline constexpr double kSceneNumberLimit = 1e6;
 Scene load_scene(const std::filesystem::path& path);
 // `origin` names the source in error messages (a file name, or "<string>").
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base = {});
+// The same from parsed JSON (a document made in memory): the same checks and messages, the JSON path
+// after origin.
+Scene scene_from_json(const nlohmann::json& j, std::string_view origin, const std::filesystem::path& base = {});
 
 // Folders outside a scene's own folder whose mesh files every later scene read may use (replaces
 // the earlier list; the CLI's --allow-outside).

@@ -181,6 +181,7 @@ SweepRow point_row(const SweepSpec& spec, const SweepPoint& p, const ocl::Device
 
 ResultCache::ResultCache(std::filesystem::path path) : path_(std::move(path)) {
     std::error_code ec;
+    if (path_.empty()) return;  // a cache in memory only
     if (path_.has_parent_path() && !std::filesystem::is_directory(path_.parent_path(), ec) &&
         !std::filesystem::create_directories(path_.parent_path(), ec) && ec)
         throw InputError(fmt::format("{}: cannot make the cache's folder: {}", path_.string(), ec.message()));
@@ -209,6 +210,7 @@ ResultCache::~ResultCache() {
 
 void ResultCache::add(const std::string& key, const SweepRow& row) {
     rows_[key] = row;
+    if (path_.empty()) return;
     std::string line = cut_ ? "\n" : "";
     cut_ = false;
     line += nlohmann::json{{"key", key}, {"row", to_json(row)}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);

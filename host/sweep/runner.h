@@ -20,7 +20,8 @@ namespace sdfbrick::sweep {
 
 // Finished points, one JSON object per line ({"key": ..., "row": {...}}), appended (and flushed) as
 // each point finishes, so that a killed sweep resumes where it stopped. A damaged last line (a write
-// cut short) is ignored, and so is a row that does not read back.
+// cut short) is ignored, and so is a row that does not read back. An empty path keeps the rows in
+// memory only (nothing is read or written).
 class ResultCache {
 public:
     // Opens (or creates) the cache file at once, refusing a link or a special file there

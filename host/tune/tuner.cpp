@@ -5,6 +5,8 @@
 #include <limits>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "core/errors.h"
 #include "measure/statistics.h"
 
@@ -99,6 +101,59 @@ Entry make_entry(const TuneResult& r, const ocl::DeviceInfo& device, const std::
                           {"platform", device.platform_name}};
     if (r.kernel->work == pipeline::Work::trace) rec["image"] = {r.spec.width, r.spec.height};
     return {device.name, device.driver_version, device.vendor, r.kernel->name, r.result.best, rec};
+}
+
+namespace {
+
+// Puts a kernel's winner into db and the report, and says the summary line.
+void record(TuningDb& db, const ocl::DeviceInfo& d, const TuneResult& t, const std::string& scene_file,
+            const std::string& tuned_at, const std::function<void(const std::string&)>& say, nlohmann::json& report) {
+    const std::string& kernel = t.kernel->name;
+    if (!t.found()) {
+        if (say) say(fmt::format("  {}: no configuration ran; nothing written\n", kernel));
+        return;
+    }
+    Entry entry = make_entry(t, d, scene_file, tuned_at);
+    nlohmann::json rec = entry.record;
+    db.put(std::move(entry));
+    std::string params;
+    for (const auto& [k, v] : t.result.best) params += fmt::format("{}{} {}", params.empty() ? "" : ", ", k, v);
+    if (say)
+        say(fmt::format("  {}: best {} at {:.4f} ms; default {:.4f} ms ({:+.1f}%); {} of {} configurations ({})\n",
+                        kernel, params, t.result.best_cost, t.fallback_cost,
+                        100.0 * (t.result.best_cost - t.fallback_cost) / t.fallback_cost, t.result.evaluated.size(),
+                        t.space, to_string(t.strategy)));
+    nlohmann::json evaluated = nlohmann::json::array();
+    for (const auto& [c, ms] : t.result.evaluated)
+        evaluated.push_back({{"params", c}, {"ms", std::isfinite(ms) ? nlohmann::json(ms) : nlohmann::json(nullptr)}});
+    rec["params"] = t.result.best;
+    rec["evaluated_configurations"] = evaluated;
+    report[kernel] = rec;
+}
+
+}  // namespace
+
+nlohmann::json tune_device(pipeline::Lane& runner, const Scene& scene, const std::string& scene_file,
+                           const std::vector<const TunedKernel*>& kernels, const construct::BuildSettings& base,
+                           const TuneSpec& spec, TuningDb& db, const std::string& tuned_at,
+                           const std::function<void(const std::string&)>& say, const TuneProgress& measured) {
+    const ocl::DeviceInfo& info = runner.device().info();
+    if (say) say(fmt::format("device {} [{}], driver {}\n", info.index, info.name, info.driver_version));
+    nlohmann::json report = {{"device", info.to_json()}};
+    construct::BuildSettings settings = base;
+    for (const TunedKernel* k : kernels) {
+        if (say) {
+            if (k->work == pipeline::Work::trace)
+                say(fmt::format("  {} ({}x{}, {}):\n", k->name, spec.width, spec.height, k->objective_text));
+            else
+                say(fmt::format("  {} ({}):\n", k->name, k->objective_text));
+        }
+        const TuneResult t = tune_kernel(*k, runner, scene, settings, spec, measured);
+        record(db, info, t, scene_file, tuned_at, say, report);
+        render::TraceSettings unused;
+        if (t.found() && k->work != pipeline::Work::trace) k->apply(t.result.best, settings, unused);
+    }
+    return report;
 }
 
 }  // namespace sdfbrick::tune

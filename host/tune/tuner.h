@@ -8,6 +8,9 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "pipeline/run.h"
 #include "scene/scene.h"
@@ -51,5 +54,17 @@ TuneResult tune_kernel(const TunedKernel& kernel, pipeline::Lane& runner, const 
 // and how, where and when it was measured.
 Entry make_entry(const TuneResult& r, const ocl::DeviceInfo& device, const std::string& scene_file,
                  const std::string& tuned_at);
+
+// Tunes kernels (in the tuner's order, tuned_kernels()) on runner's device over scene, as `sdfbrick
+// tune` does: a Work::trace kernel is measured over bricks built with the winners of the kernels
+// before it. Each winner goes into db (make_entry with scene_file and tuned_at). Gives the device's
+// report: {"device", and per kernel found its entry's record with "params" and
+// "evaluated_configurations" (each {"params", "ms"}, ms null when not runnable)}. say: every line of
+// text as soon as it is known (the device, each kernel's heading and result); measured: every
+// configuration as it is measured. Either may be empty.
+nlohmann::json tune_device(pipeline::Lane& runner, const Scene& scene, const std::string& scene_file,
+                           const std::vector<const TunedKernel*>& kernels, const construct::BuildSettings& base,
+                           const TuneSpec& spec, TuningDb& db, const std::string& tuned_at,
+                           const std::function<void(const std::string&)>& say, const TuneProgress& measured = {});
 
 }  // namespace sdfbrick::tune

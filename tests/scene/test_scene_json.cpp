@@ -103,6 +103,22 @@ struct BadCase {
     std::string expect;  // a part of the message
 };
 
+// A document made in memory reads as its text does, and its errors name the same JSON path after
+// the origin given.
+TEST(SceneJson, FromParsedJsonAsFromText) {
+    const Scene from_text = parse_scene(kMinimal, "t.json");
+    const Scene from_json = scene_from_json(nlohmann::json::parse(kMinimal), "<dict>");
+    EXPECT_EQ(scene_to_json(from_json), scene_to_json(from_text));
+    const std::string bad = with_edit(R"({"primitive": "sphere", "radius": -1})");
+    try {
+        scene_from_json(nlohmann::json::parse(bad), "<dict>");
+        FAIL() << "a negative radius was accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), "<dict>: /geometries/0/edits/0/radius: must be > 0, got -1");
+        EXPECT_EQ(error_of(bad), "t.json: /geometries/0/edits/0/radius: must be > 0, got -1");
+    }
+}
+
 TEST(SceneJson, BadInputNamesThePlace) {
     const std::string big_edit = R"({"primitive": "sphere", "radius": 1})";
     std::string too_many = R"({"geometries": [{"name": "g", "edits": [)";

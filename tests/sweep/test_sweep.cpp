@@ -308,6 +308,21 @@ TEST(Sweep, CacheResumesAndSurvivesACutLine) {
     EXPECT_EQ(third.size(), 3u) << "a line appended after a cut line is not lost";
 }
 
+TEST(Sweep, CacheWithoutAPathStaysInMemory) {
+    const std::filesystem::path dir = test::temp_dir("sweep-memory");
+    const std::filesystem::path before = std::filesystem::current_path();
+    std::filesystem::current_path(dir);
+    {
+        sweep::ResultCache cache{std::filesystem::path()};
+        cache.add("k1", build_ms_row(1.5));
+        ASSERT_NE(cache.find("k1"), nullptr);
+        EXPECT_EQ(cache.size(), 1u);
+    }
+    std::filesystem::current_path(before);
+    EXPECT_TRUE(std::filesystem::is_empty(dir)) << "nothing is written";
+    EXPECT_EQ(sweep::ResultCache(std::filesystem::path()).size(), 0u);
+}
+
 // A small sweep on the test device: every point runs, the accuracy columns are filled, a second run
 // takes every point from the cache, and culling on/off give the same bricks.
 TEST(Sweep, RunsPointsOnTheDeviceAndResumes) {

@@ -1,0 +1,42 @@
+"""Context.tune: the report of `sdfbrick tune --json`; save=True writes the tuning database."""
+import json
+
+import pytest
+
+import sdfbrick
+from conftest import DEVICE
+
+SMALL = dict(kernels=["evaluate"], strategy="random", budget=2, repeat=1, warmup=0, brick_size=0.25)
+
+
+def test_tune_report(ctx, spheres):
+    lines = []
+    report = ctx.tune(spheres, progress=lines.append, **SMALL)
+    assert report["command"] == "tune" and report["tuning_db"] is None
+    (device,) = report["devices"]
+    assert device["device"]["index"] == ctx.devices[0]["index"]
+    (kernel,) = [k for k in device if k != "device"]
+    assert len(device[kernel]["evaluated_configurations"]) <= 2
+    assert set(device[kernel]["params"]) == {"chunk", "group"}
+    assert lines[0].startswith("device ") and any("best" in line for line in lines)
+
+
+def test_tune_saves_the_database_the_context_then_uses(spheres, tmp_path):
+    db = tmp_path / "tuning.json"
+    with sdfbrick.Context(device=DEVICE, tuning_db=str(db)) as c:
+        report = c.tune(spheres, save=True, **SMALL)
+        assert report["tuning_db"] == str(db)
+        (kernel,) = [k for k in report["devices"][0] if k != "device"]
+        best = report["devices"][0][kernel]["params"]
+        assert json.loads(db.read_text())
+        built = c.build(spheres, brick_size=0.25)
+        assert built["settings"]["chunk"] == best["chunk"] and built["settings"]["group"] == best["group"]
+        assert built["tuning"][kernel]["layer"] == "file"
+
+
+def test_tune_refuses_bad_kernels_and_saving_without_a_database(ctx, spheres):
+    with pytest.raises(sdfbrick.InputError, match="^kernels: "):
+        ctx.tune(spheres, kernels=["shade"])
+    with sdfbrick.Context(device=DEVICE, tuning=False) as c:
+        with pytest.raises(sdfbrick.InputError, match="tuning database"):
+            c.tune(spheres, save=True, **SMALL)
