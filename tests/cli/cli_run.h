@@ -41,6 +41,20 @@ inline std::string test_device_spec() {
     return spec && *spec ? spec : "cpu";
 }
 
+// The environment that makes the CLI run on the test device.
+inline std::string device_env() { return "SDFBRICK_DEVICE=" + test_device_spec(); }
+
+// Exactly one line on stderr, starting "sdfbrick: ", of printable ASCII.
+inline ::testing::AssertionResult one_clean_line(const CliRun& r) {
+    const std::string& e = r.err;
+    if (e.size() < 11 || e.rfind("sdfbrick: ", 0) != 0 || e.back() != '\n' || e.find('\n') != e.size() - 1)
+        return ::testing::AssertionFailure() << "not one line: [" << e << "]";
+    for (char c : e.substr(0, e.size() - 1))
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
+            return ::testing::AssertionFailure() << "unprintable byte in: [" << e << "]";
+    return ::testing::AssertionSuccess();
+}
+
 inline std::string scene_path(const std::string& name) {
     return std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json";
 }

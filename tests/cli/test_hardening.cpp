@@ -22,20 +22,9 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliRun;
 using test::scene_path;
+using test::device_env;
+using test::one_clean_line;
 using test::sdfbrick;
-
-std::string device_env() { return "SDFBRICK_DEVICE=" + test::test_device_spec(); }
-
-// Exactly one line on stderr, starting "sdfbrick: ", of printable ASCII.
-::testing::AssertionResult one_clean_line(const CliRun& r) {
-    const std::string& e = r.err;
-    if (e.size() < 11 || e.rfind("sdfbrick: ", 0) != 0 || e.back() != '\n' || e.find('\n') != e.size() - 1)
-        return ::testing::AssertionFailure() << "not one line: [" << e << "]";
-    for (char c : e.substr(0, e.size() - 1))
-        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
-            return ::testing::AssertionFailure() << "unprintable byte in: [" << e << "]";
-    return ::testing::AssertionSuccess();
-}
 
 std::string scene_with_edit(const std::string& edit) {
     return R"({"geometries": [{"name": "g", "edits": [)" + edit + "]}]}";

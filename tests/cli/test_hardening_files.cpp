@@ -23,16 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using test::CliRun;
 using test::scene_path;
+using test::device_env;
 using test::sdfbrick;
-
-std::string device_env() { return "SDFBRICK_DEVICE=" + test::test_device_spec(); }
-
-::testing::AssertionResult one_line(const CliRun& r) {
-    const std::string& e = r.err;
-    if (e.rfind("sdfbrick: ", 0) != 0 || e.empty() || e.find('\n') != e.size() - 1)
-        return ::testing::AssertionFailure() << "not one line: [" << e << "]";
-    return ::testing::AssertionSuccess();
-}
 
 std::size_t entries(const fs::path& dir) {
     std::size_t n = 0;
@@ -61,7 +53,7 @@ TEST(CliHardening, AFullFileSystemLeavesNoTruncatedOutput) {
         ASSERT_GE(blocks, 1u) << out << " holds only " << size << " bytes";
         const CliRun full = sdfbrick(args, fmt::format("trap '' XFSZ; ulimit -f {}; {}", blocks, device_env()));
         EXPECT_EQ(full.status, 2) << args << ": " << full.err;
-        EXPECT_TRUE(one_line(full)) << args;
+        EXPECT_TRUE(test::one_clean_line(full)) << args;
         EXPECT_NE(full.err.find("write failed"), std::string::npos) << full.err;
         EXPECT_EQ(entries(dir), 0u) << args << " left " << fs::directory_iterator(dir)->path();
     }
@@ -86,7 +78,7 @@ TEST(CliHardening, ExportWritesAllItsFilesOrNone) {
     for (const char* fault : {"write:2", "write:3"}) {
         const CliRun r = sdfbrick(args, device_env() + " SDFBRICK_FAULT=" + fault);
         EXPECT_EQ(r.status, 2) << fault << ": " << r.err;
-        EXPECT_TRUE(one_line(r)) << fault;
+        EXPECT_TRUE(test::one_clean_line(r)) << fault;
         EXPECT_EQ(entries(dir), 0u) << fault << " left " << fs::directory_iterator(dir)->path();
     }
     const CliRun r = sdfbrick(args, device_env());
@@ -104,7 +96,7 @@ TEST(CliHardening, ExportOfNoBricksIsRefusedAndWritesNothing) {
                                   (dir / "e.vdb").string() + " --json " + (dir / "e.json").string(),
                               device_env());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_TRUE(one_line(r));
+    EXPECT_TRUE(test::one_clean_line(r));
     EXPECT_NE(r.err.find("nothing to write: no object"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir / "e.vdb"));
     EXPECT_FALSE(fs::exists(dir / "e.json"));
@@ -119,7 +111,7 @@ TEST(CliHardening, ExportTooLargeForTheHostIsRefusedBeforeItsLeaves) {
     const CliRun r = sdfbrick("export " + scene_path("drops") + " --brick-size 0.004 --vdb " + (dir / "d.vdb").string(),
                               "ulimit -v 1572864; " + device_env());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_TRUE(one_line(r));
+    EXPECT_TRUE(test::one_clean_line(r));
     EXPECT_NE(r.err.find("bytes of host memory"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("use a larger"), std::string::npos) << r.err;
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(120));
@@ -136,11 +128,11 @@ TEST(CliHardening, StabilityPicturesIntoAnUnusableFolderLeaveNothing) {
                              "--width 16 --height 12 --pictures ";
     const CliRun under_file = sdfbrick("stability " + args + (dir / "file" / "pics").string(), device_env());
     EXPECT_EQ(under_file.status, 2) << under_file.err;
-    EXPECT_TRUE(one_line(under_file));
+    EXPECT_TRUE(test::one_clean_line(under_file));
     EXPECT_NE(under_file.err.find("cannot write pictures here"), std::string::npos) << under_file.err;
     const CliRun failing = sdfbrick("stability " + args + (dir / "pics").string(), device_env() + " SDFBRICK_FAULT=write:2");
     EXPECT_EQ(failing.status, 2) << failing.err;
-    EXPECT_TRUE(one_line(failing));
+    EXPECT_TRUE(test::one_clean_line(failing));
     EXPECT_FALSE(fs::exists(dir / "pics"));
     EXPECT_EQ(entries(dir), 1u);
 }
@@ -162,7 +154,7 @@ TEST(CliHardening, KernelSourcesThatAreSpecialFilesAreRefused) {
         const CliRun r = sdfbrick("--kernel-dir " + kernels.string() + " eval " + scene_path("spheres") + " --size 8",
                                   device_env() + " SDFBRICK_CACHE_DIR=off");
         EXPECT_EQ(r.status, 2) << kind << ": " << r.err;
-        EXPECT_TRUE(one_line(r)) << kind;
+        EXPECT_TRUE(test::one_clean_line(r)) << kind;
         EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << kind << ": " << r.err;
         EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60)) << kind;
     }
@@ -178,7 +170,7 @@ TEST(CliHardening, SweepCacheThroughALinkIsRefused) {
                                   (dir / "s").string(),
                               device_env());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_TRUE(one_line(r));
+    EXPECT_TRUE(test::one_clean_line(r));
     EXPECT_NE(r.err.find("a symbolic link"), std::string::npos) << r.err;
     EXPECT_EQ(read_file(dir / "victim"), "precious\n");
     EXPECT_FALSE(fs::exists(dir / "s.csv"));
@@ -194,14 +186,14 @@ TEST(CliHardening, MeshesOutsideTheScenesFolderNeedAllowOutside) {
                      R"({"geometries": [{"name": "g", "edits": [{"primitive": "mesh", "file": "../meshes/ball.obj", "resolution": 8}]}]})");
     const CliRun refused = sdfbrick("scene info " + (dir / "scene" / "s.json").string());
     EXPECT_EQ(refused.status, 2) << refused.err;
-    EXPECT_TRUE(one_line(refused));
+    EXPECT_TRUE(test::one_clean_line(refused));
     EXPECT_NE(refused.err.find("/geometries/0/edits/0/file: "), std::string::npos) << refused.err;
     EXPECT_NE(refused.err.find("outside the scene's folder"), std::string::npos) << refused.err;
     const CliRun allowed = sdfbrick("--allow-outside " + (dir / "meshes").string() + " scene info " + (dir / "scene" / "s.json").string());
     EXPECT_EQ(allowed.status, 0) << allowed.err;
     const CliRun not_a_folder = sdfbrick("--allow-outside " + (dir / "nothing").string() + " scene info " + (dir / "scene" / "s.json").string());
     EXPECT_EQ(not_a_folder.status, 2) << not_a_folder.err;
-    EXPECT_TRUE(one_line(not_a_folder));
+    EXPECT_TRUE(test::one_clean_line(not_a_folder));
 }
 
 // merge checks what it reads: points must be row objects of typed fields, shard index and count
@@ -225,7 +217,7 @@ TEST(CliHardening, MergeRefusesShardsThatLieAboutThemselves) {
         test::write_text(dir / "in.json", text);
         const CliRun r = sdfbrick("merge " + (dir / "in.json").string() + " --out " + (dir / "m").string());
         EXPECT_EQ(r.status, 2) << text << ": " << r.err;
-        EXPECT_TRUE(one_line(r)) << text;
+        EXPECT_TRUE(test::one_clean_line(r)) << text;
         EXPECT_NE(r.err.find((dir / "in.json").string() + ": " + expected), std::string::npos) << text << ": " << r.err;
         EXPECT_FALSE(fs::exists(dir / "m.csv"));
     }
