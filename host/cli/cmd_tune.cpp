@@ -1,6 +1,7 @@
 // `sdfbrick tune`: parses the flags, tunes the selected kernels (tune/kernels.h declares them,
 // tune::tune_kernel searches and measures) on each selected device, prints every configuration as it
 // is measured, and writes the winners to the tuning database that later runs read. docs/tuning.md.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "scene/to_device.h"
 #include "scene/scene_json.h"
 #include "tune/kernels.h"
+#include "tune/t4.h"
 #include "tune/tuner.h"
 
 namespace sdfbrick::cli {
@@ -29,6 +31,7 @@ struct TuneOptions {
     std::vector<std::string> kernels{"evaluate", "trace"};
     tune::TuneSpec spec;  // strategy, budget, seed, warm-up, repeats, trace image
     std::optional<std::string> json;
+    std::optional<std::string> t4;  // the run as T4 results
 };
 
 // Tuning takes a while: every line is printed as soon as it is known.
@@ -76,12 +79,14 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     tune::TuningDb db = *choice.db;
     std::vector<std::filesystem::path> paths{*choice.path};
     if (o.json) paths.emplace_back(*o.json);
+    if (o.t4) paths.emplace_back(*o.t4);
     check_output_paths(paths);
     for (ocl::Device& device : devices) base.validate(device.info());  // the checks build makes, before any work
 
     say(fmt::format("tune {} ({}), brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n", scene.name,
                     o.file, base.leaf_size, o.spec.repeat, o.spec.warmup, o.spec.strategy, o.spec.budget));
     nlohmann::json device_reports = nlohmann::json::array();
+    const std::string started = now_iso();
     for (ocl::Device& device : devices) {
         pipeline::Executor executor(device);
         device_reports.push_back(
@@ -89,11 +94,63 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     }
     db.save(*choice.path);
     say(fmt::format("tuning database: {}\n", choice.path->string()));
-    if (o.json) {
-        write_file_atomic(*o.json, format_json({{"command", "tune"}, {"scene", o.file}, {"tuning_db", choice.path->string()},
-                                                {"devices", device_reports}}));
-        say(fmt::format("report: {}\n", *o.json));
+    std::vector<Output> outputs;
+    if (o.json)
+        outputs.push_back(text_output(*o.json, format_json({{"command", "tune"}, {"scene", o.file},
+                                                            {"tuning_db", choice.path->string()}, {"devices", device_reports}})));
+    if (o.t4) outputs.push_back(text_output(*o.t4, tune::t4_results(device_reports, started).dump(2) + "\n"));
+    write_all(outputs);
+    if (o.json) say(fmt::format("report: {}\n", *o.json));
+    if (o.t4) say(fmt::format("T4 results: {}\n", *o.t4));
+}
+
+struct ImportOptions {
+    std::string file;
+    std::vector<std::string> kernels{"evaluate", "trace"};
+    bool replace = false;
+};
+
+// Imports the best valid result of a T4 file per selected kernel as the database entry of each
+// selected device that has none (or, with --replace, any).
+void run_import(const ImportOptions& o, const GlobalOptions& global) {
+    apply_global_options(global);
+    std::vector<const tune::TunedKernel*> kernels;
+    for (const std::string& k : o.kernels) {
+        const tune::TunedKernel* kernel = tune::find_kernel(k);
+        if (!kernel) throw InputError(fmt::format("--kernels takes evaluate and/or trace, got \"{}\"", k));
+        kernels.push_back(kernel);
     }
+    const nlohmann::json doc = load_json(o.file);
+    if (global.no_tuning) throw InputError("tune-import writes the tuning database: drop --no-tuning");
+    const TuningChoice choice = open_tuning(global);
+    if (!choice.path) throw InputError("no tuning database file: give --tuning-db or set SDFBRICK_TUNING_DB");
+    tune::TuningDb db = *choice.db;
+    const ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
+    std::size_t imported = 0;
+    for (const ocl::Device& device : devices) {
+        const ocl::DeviceInfo& d = device.info();
+        for (const tune::TunedKernel* kernel : kernels) {
+            const bool has = std::any_of(db.entries().begin(), db.entries().end(), [&](const tune::Entry& e) {
+                return e.device == d.name && e.driver == d.driver_version && e.kernel == kernel->name;
+            });
+            if (has && !o.replace) {
+                say(fmt::format("{} [{}]: {} already has an entry; kept (--replace to import over it)\n", d.index, d.name, kernel->name));
+                continue;
+            }
+            const auto best = tune::best_t4_result(doc, *kernel, d, o.file);
+            if (!best) {
+                say(fmt::format("{} [{}]: {}: no valid result with exactly its parameters that this device runs\n", d.index,
+                                d.name, kernel->name));
+                continue;
+            }
+            db.put(tune::t4_entry(*best, *kernel, d, o.file, now_iso()));
+            ++imported;
+            say(fmt::format("{} [{}]: {}: {} ({:.4f} ms, result {})\n", d.index, d.name, kernel->name,
+                            kernel->describe(best->params), best->ms, best->index));
+        }
+    }
+    if (imported > 0) db.save(*choice.path);
+    say(fmt::format("imported {} entr{} into {}\n", imported, imported == 1 ? "y" : "ies", choice.path->string()));
 }
 
 }  // namespace
@@ -113,8 +170,18 @@ void add_tune_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--height", o->spec.height, "trace image height")->capture_default_str();
     cmd->add_option("--seed", o->spec.seed, "seed of the random and anneal strategies")->capture_default_str();
     cmd->add_option("--json", o->json, "write a JSON report (every configuration measured) here");
+    cmd->add_option("--t4", o->t4, "write every configuration measured as T4 auto-tuning results (docs/tuning.md) here");
     add_setting_flags(cmd, {{"strategy", "--strategy"}, {"width", "--width"}, {"height", "--height"}});
     cmd->callback([o, &global] { run_tune(*o, global); });
+
+    auto imp = std::make_shared<ImportOptions>();
+    auto* import_cmd = app.add_subcommand("tune-import", "Import the best result per kernel of a T4 auto-tuning results "
+                                                         "file (Kernel Tuner, KTT, tune --t4) into the tuning database for "
+                                                         "each selected device that has no entry");
+    import_cmd->add_option("file", imp->file, "T4 results file (JSON)")->required();
+    import_cmd->add_option("--kernels", imp->kernels, "evaluate and/or trace")->delimiter(',')->capture_default_str();
+    import_cmd->add_flag("--replace", imp->replace, "import over the device's own entry too");
+    import_cmd->callback([imp, &global] { run_import(*imp, global); });
 }
 
 }  // namespace sdfbrick::cli
