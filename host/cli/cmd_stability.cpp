@@ -76,16 +76,9 @@ void run_stability_command(const StabilityOptions& o, const GlobalOptions& globa
         std::fflush(stderr);
     };
     const sweep::StabilityReport report = sweep::run_stability(spec, devices, progress);
-    std::vector<Output> outputs = report.pictures;
-    if (o.json) outputs.push_back(text_output(*o.json, format_json(sweep::to_json(report))));
-    const bool made = o.spec.pictures && make_output_folder(*o.spec.pictures);
-    try {
-        write_all(outputs);
-    } catch (...) {
-        std::error_code ignored;
-        if (made) std::filesystem::remove(*o.spec.pictures, ignored);
-        throw;
-    }
+    std::vector<Output> json;
+    if (o.json) json.push_back(text_output(*o.json, format_json(sweep::to_json(report))));
+    sweep::write_stability_outputs(report, spec, std::move(json));
     std::fputs(sweep::to_text(report).c_str(), stdout);
     if (o.json) std::printf("report: %s\n", o.json->c_str());
 }

@@ -31,6 +31,7 @@
 #include "cl/kernel_source.h"
 #include "core/errors.h"
 #include "core/fault.h"
+#include "core/files.h"
 #include "core/quote.h"
 #include "pipeline/command_report.h"
 #include "pipeline/executor.h"
@@ -718,6 +719,7 @@ public:
         if (const auto v = k.integer("height")) s.height = *v;
         if (const auto v = k.object("pictures")) s.pictures = py::module_::import("os").attr("fspath")(*v).cast<std::string>();
         k.done();
+        if (s.pictures) check_output_folder(*s.pictures);
         const auto fn = progress_function<sweep::StabilityProgress>(progress, [](const sweep::StabilityProgress& p) {
             py::dict f;
             f["done"] = p.done;
@@ -732,7 +734,9 @@ public:
             const py::gil_scoped_release release;
             const std::lock_guard lock(mutex_);
             s.tuning = tuning();
-            report = sweep::to_json(sweep::run_stability(s, open_set(), fn));
+            const sweep::StabilityReport r = sweep::run_stability(s, open_set(), fn);
+            sweep::write_stability_outputs(r, s);
+            report = sweep::to_json(r);
         }
         return to_python(report);
     }

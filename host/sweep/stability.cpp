@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -288,6 +289,19 @@ StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices
     if (progress) progress(p);
     report.seconds = seconds_since(start);
     return report;
+}
+
+void write_stability_outputs(const StabilityReport& report, const StabilitySpec& spec, std::vector<Output> others) {
+    std::vector<Output> outputs = report.pictures;
+    outputs.insert(outputs.end(), std::make_move_iterator(others.begin()), std::make_move_iterator(others.end()));
+    const bool made = spec.pictures && make_output_folder(*spec.pictures);
+    try {
+        write_all(outputs);
+    } catch (...) {
+        std::error_code ignored;
+        if (made) std::filesystem::remove(*spec.pictures, ignored);
+        throw;
+    }
 }
 
 nlohmann::json to_json(const StabilityReport& r) {

@@ -97,6 +97,11 @@ struct StabilityProgress {
 StabilityReport run_stability(const StabilitySpec& spec, ocl::DeviceSet& devices,
                               const std::function<void(const StabilityProgress&)>& progress);
 
+// Writes the report's pictures into spec.pictures (made when missing) with `others` (a JSON report)
+// as one write_all; when the write fails, a folder it made is taken away again. Check the folder with
+// check_output_folder before the run.
+void write_stability_outputs(const StabilityReport& report, const StabilitySpec& spec, std::vector<Output> others = {});
+
 // The thresholds exceeded by the accuracy figures of a cell.
 std::vector<std::string> threshold_failures(const reference::AccuracyMetrics& a, const StabilityThresholds& t);
 

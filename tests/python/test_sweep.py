@@ -54,3 +54,12 @@ def test_stability_report(ctx):
     assert report["width"] == 33
     with pytest.raises(sdfbrick.InputError, match="^methods: "):
         ctx.stability([str(SCENES / "stability" / "face_rays.json")], methods=["x"])
+
+
+def test_stability_writes_its_pictures(ctx, tmp_path):
+    folder = tmp_path / "pictures"
+    ctx.stability([str(SCENES / "stability" / "face_rays.json")], brick_size=0.25, methods="sphere",
+                  normals=["continuous"], formats=["int8"], builds=["uniform"], width=33, height=17, pictures=folder)
+    names = sorted(p.name for p in folder.iterdir())
+    assert any(n.endswith("-reference.png") or n.endswith("-reference.ppm") for n in names), names
+    assert len(names) >= 2, names
