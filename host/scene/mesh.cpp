@@ -155,7 +155,8 @@ void check_ply_header(std::string_view bytes, const std::filesystem::path& path)
 // An Assimp stream over bytes already read (read_file: regular files only, size-capped).
 class BytesStream final : public Assimp::IOStream {
 public:
-    explicit BytesStream(std::string bytes) : bytes_(std::move(bytes)) {}
+    explicit BytesStream(std::string bytes) : owned_(std::move(bytes)), bytes_(owned_) {}
+    explicit BytesStream(std::string_view bytes) : bytes_(bytes) {}  // bytes outlive the stream
     size_t Read(void* out, size_t size, size_t count) override {
         if (size == 0) return 0;
         const size_t n = std::min(count, (bytes_.size() - pos_) / size);
@@ -175,16 +176,20 @@ public:
     void Flush() override {}
 
 private:
-    std::string bytes_;
+    std::string owned_;
+    std::string_view bytes_;
     size_t pos_ = 0;
 };
 
-// The files a mesh loader may open: regular files inside the mesh file's folder (a glTF buffer, an
-// OBJ material library), each read whole through read_file and so size-capped and never blocking.
+// The files a mesh loader may open: the mesh file itself (its bytes as load_mesh read them) and
+// regular files inside its folder (a glTF buffer, an OBJ material library), each read whole through
+// read_file and so size-capped and never blocking.
 // The first refusal is kept: the loader may carry on without the file, but the mesh is refused.
 class MeshFiles final : public Assimp::IOSystem {
 public:
-    explicit MeshFiles(const std::filesystem::path& mesh) : folder_(canonical_folder(mesh)) {}
+    // mesh_bytes: the mesh file's bytes, already read (and outliving this).
+    MeshFiles(const std::filesystem::path& mesh, std::string_view mesh_bytes)
+        : mesh_(resolved(mesh)), folder_(mesh_.parent_path()), mesh_bytes_(mesh_bytes) {}
     bool Exists(const char* file) const override {
         std::error_code ec;
         return std::filesystem::exists(file, ec);
@@ -193,7 +198,9 @@ public:
     Assimp::IOStream* Open(const char* file, const char* mode) override {
         if (std::string_view(mode).find_first_of("wa+") != std::string_view::npos) return nullptr;
         try {
-            return new BytesStream(read_file(inside_folder(file)));
+            const std::filesystem::path real = inside_folder(file);
+            if (real == mesh_) return new BytesStream(mesh_bytes_);
+            return new BytesStream(read_file(real));
         } catch (const InputError& e) {
             if (!refusal_) refusal_ = e.what();
             return nullptr;
@@ -203,19 +210,18 @@ public:
     const std::optional<std::string>& refusal() const { return refusal_; }
 
 private:
-    static std::filesystem::path canonical_folder(const std::filesystem::path& mesh) {
+    static std::filesystem::path resolved(const std::filesystem::path& file) {
         std::error_code ec;
-        const std::filesystem::path folder = std::filesystem::weakly_canonical(std::filesystem::absolute(mesh, ec), ec).parent_path();
-        return folder;
+        return std::filesystem::weakly_canonical(std::filesystem::absolute(file, ec), ec);
     }
     std::filesystem::path inside_folder(const std::filesystem::path& file) const {
-        std::error_code ec;
-        const std::filesystem::path real = std::filesystem::weakly_canonical(std::filesystem::absolute(file, ec), ec);
-        if (ec || !lies_within(real, folder_))
+        const std::filesystem::path real = resolved(file);
+        if (real.empty() || !lies_within(real, folder_))
             throw InputError(fmt::format("{}: refused: outside the mesh's folder {}", file.string(), folder_.string()));
         return real;
     }
-    std::filesystem::path folder_;
+    std::filesystem::path mesh_, folder_;
+    std::string_view mesh_bytes_;
     std::optional<std::string> refusal_;
 };
 
@@ -223,9 +229,9 @@ private:
 // Reads the mesh with Assimp in this process: the file's folder as its file system, the data
 // structure validated; polygons and node transforms are handled here (add_node), not by Assimp's
 // post-processing, whose assertions abort on some malformed files.
-TriangleMesh read_with_assimp(const std::filesystem::path& path) {
+TriangleMesh read_with_assimp(const std::filesystem::path& path, std::string_view bytes) {
     Assimp::Importer importer;
-    auto* files = new MeshFiles(path);
+    auto* files = new MeshFiles(path, bytes);
     importer.SetIOHandler(files);  // the importer owns it
     const aiScene* scene = importer.ReadFile(path.string(), aiProcess_ValidateDataStructure);
     // What the file names and Assimp's messages echo the file's bytes: escaped.
@@ -247,9 +253,9 @@ void append_raw(std::string& out, const T* values, std::size_t count) {
     if (count > 0) out.append(reinterpret_cast<const char*>(values), count * sizeof(T));
 }
 
-std::string encode_reply(const std::filesystem::path& path) {
+std::string encode_reply(const std::filesystem::path& path, std::string_view bytes) {
     try {
-        const TriangleMesh m = read_with_assimp(path);
+        const TriangleMesh m = read_with_assimp(path, bytes);
         std::string out = "M";
         const std::uint64_t counts[2] = {m.vertices.size(), m.triangles.size()};
         append_raw(out, counts, 2);
@@ -307,19 +313,19 @@ bool read_reply(int fd, std::string& reply, std::chrono::seconds limit) {
 
 // Assimp runs in a child process: a crash, an assertion or a hang of the reader on a malformed file
 // ends the child, not the program, and becomes a refusal naming the file.
-TriangleMesh read_isolated(const std::filesystem::path& path, int seconds) {
+TriangleMesh read_isolated(const std::filesystem::path& path, std::string_view bytes, int seconds) {
     int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) return read_with_assimp(path);  // no pipe: read in this process
+    if (::pipe2(fds, O_CLOEXEC) != 0) return read_with_assimp(path, bytes);  // no pipe: read in this process
     const pid_t child = ::fork();
     if (child < 0) {
         ::close(fds[0]);
         ::close(fds[1]);
-        return read_with_assimp(path);
+        return read_with_assimp(path, bytes);
     }
     if (child == 0) {
         ::close(fds[0]);
         for (const int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) ::signal(sig, SIG_DFL);
-        const std::string reply = encode_reply(path);
+        const std::string reply = encode_reply(path, bytes);
         for (std::size_t done = 0; done < reply.size();) {
             const ssize_t n = ::write(fds[1], reply.data() + done, reply.size() - done);
             if (n < 0 && errno == EINTR) continue;
@@ -348,7 +354,7 @@ TriangleMesh read_isolated(const std::filesystem::path& path, int seconds) {
 TriangleMesh load_mesh(const std::filesystem::path& path, int seconds) {
     const std::string bytes = read_file(path);
     if (bytes.starts_with("ply")) check_ply_header(bytes, path);
-    TriangleMesh out = read_isolated(path, seconds);
+    TriangleMesh out = read_isolated(path, bytes, seconds);
     if (out.triangles.empty()) throw InputError(fmt::format("{}: the mesh has no triangles", path.string()));
     return out;
 }

@@ -287,13 +287,13 @@ Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
     const int resolution =
         n.has("resolution") ? n["resolution"].integer(2, kMaxMeshResolution) : kDefaultMeshResolution;
     const std::filesystem::path path = (catalog.base / name).lexically_normal();
-    if (!mesh_file_allowed(path, catalog.base))
-        file.fail(fmt::format("{}: refused: outside the scene's folder{} and the folders allowed outside it",
-                              escaped(path.string(), kPathEchoLimit),
-                              catalog.base.empty() ? "" : " " + escaped(catalog.base.string(), kPathEchoLimit)));
     const auto key = std::pair(path.string(), resolution);
     auto it = catalog.entries.find(key);
-    if (it == catalog.entries.end()) {
+    if (it == catalog.entries.end()) {  // a file is checked and read once per scene
+        if (!mesh_file_allowed(path, catalog.base))
+            file.fail(fmt::format("{}: refused: outside the scene's folder{} and the folders allowed outside it",
+                                  escaped(path.string(), kPathEchoLimit),
+                                  catalog.base.empty() ? "" : " " + escaped(catalog.base.string(), kPathEchoLimit)));
         const auto index = static_cast<std::uint32_t>(catalog.entries.size());
         it = catalog.entries.emplace(key, MeshCatalog::Entry{read_mesh_source(file, path, resolution), index}).first;
     }

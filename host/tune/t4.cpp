@@ -93,15 +93,9 @@ std::optional<T4Best> best_t4_result(const nlohmann::json& doc, const TunedKerne
 
 Entry t4_entry(const T4Best& best, const TunedKernel& kernel, const ocl::DeviceInfo& device, const std::string& where,
                const std::string& imported_at) {
-    Entry e;
-    e.device = device.name;
-    e.driver = device.driver_version;
-    e.vendor = device.vendor;
-    e.kernel = kernel.name;
-    e.params = best.params;
-    e.record = {{"time_ms", best.ms}, {"source", "T4"},           {"file", where},
-                {"result", best.index}, {"tuned_at", imported_at}, {"platform", device.platform_name}};
-    return e;
+    const nlohmann::json record = {{"time_ms", best.ms}, {"source", "T4"},           {"file", where},
+                                   {"result", best.index}, {"tuned_at", imported_at}, {"platform", device.platform_name}};
+    return {device.name, device.driver_version, device.vendor, kernel.name, best.params, record};
 }
 
 }  // namespace sdfbrick::tune

@@ -19,13 +19,9 @@ using test::CliRun;
 using test::scene_path;
 using test::sdfbrick;
 
-bool one_line(const std::string& err) {
-    return err.rfind("sdfbrick: ", 0) == 0 && !err.empty() && err.find('\n') == err.size() - 1;
-}
-
 TEST(CliGate, ARealRegressionExitsThreeAndTheSameBuildTwicePasses) {
     const fs::path dir = test::temp_dir("cli_gate_real");
-    const std::string env = "SDFBRICK_DEVICE=" + test::test_device_spec();
+    const std::string env = test::device_env();
     const auto build = [&](const std::string& name, const std::string& flags) {
         const CliRun r = sdfbrick("build " + scene_path("spheres") + flags + " --json " + (dir / name).string(), env);
         ASSERT_EQ(r.status, 0) << r.err;
@@ -45,7 +41,7 @@ TEST(CliGate, ARealRegressionExitsThreeAndTheSameBuildTwicePasses) {
 
     const CliRun regressed = sdfbrick("compare " + a + " " + off + " --gate default" + outputs);
     ASSERT_EQ(regressed.status, 3) << regressed.err << regressed.out;
-    EXPECT_TRUE(one_line(regressed.err)) << regressed.err;
+    EXPECT_TRUE(test::one_clean_line(regressed));
     EXPECT_NE(regressed.err.find("sdfbrick: gate: FAIL: "), std::string::npos) << regressed.err;
     EXPECT_NE(regressed.err.find("edit_evaluations"), std::string::npos) << regressed.err;
     EXPECT_NE(read_file(dir / "s.md").find("| counters | `/edit_evaluations` |"), std::string::npos);
@@ -93,7 +89,7 @@ TEST(CliGate, BadInputExitsTwoWithOneLineAndNoOutput) {
     for (const auto& [args, message] : cases) {
         const CliRun run = sdfbrick(args);
         EXPECT_EQ(run.status, 2) << args << "\n" << run.err << run.out;
-        EXPECT_TRUE(one_line(run.err)) << args << "\n" << run.err;
+        EXPECT_TRUE(test::one_clean_line(run)) << args;
         EXPECT_NE(run.err.find(message), std::string::npos) << args << "\n" << run.err;
         EXPECT_TRUE(fs::is_empty(dir / "out")) << args;
     }
