@@ -26,7 +26,7 @@ std::vector<std::optional<T>> or_default(const std::vector<T>& v) {
 template <class T>
 void check_each(const std::vector<T>& values, const char* key, auto&& ok, const char* expected) {
     for (const T& v : values)
-        if (!ok(v)) throw InputError(fmt::format("sweep: \"{}\" has {}; expected {}", key, nlohmann::json(v).dump(), expected));
+        if (!ok(v)) throw InputError(fmt::format("sweep: \"{}\" has {}; expected {}", key, escaped(nlohmann::json(v).dump()), expected));
 }
 
 // One JSON value as T, strictly: an integer must be a whole number within T's range (no silent
@@ -92,7 +92,7 @@ std::pair<int, int> parse_group_2d(const std::string& text, const std::string& w
     };
     if (x == std::string::npos || !parse(std::string_view(text).substr(0, x), a) ||
         !parse(std::string_view(text).substr(x + 1), b))
-        throw InputError(fmt::format("{}: \"{}\" is not a work-group size WxH such as 16x8", what, text));
+        throw InputError(fmt::format("{}: {} is not a work-group size WxH such as 16x8", what, quoted_input(text)));
     return {a, b};
 }
 

@@ -15,6 +15,7 @@
 
 #include "core/errors.h"
 #include "core/files.h"
+#include "core/quote.h"
 #include "measure/peaks.h"
 #include "measure/statistics.h"
 #include "reference/accuracy.h"
@@ -330,7 +331,7 @@ std::size_t count_field(const nlohmann::json& j, const char* name, const std::st
     const auto it = j.find(name);
     if (it == j.end() || !it->is_number_unsigned())
         throw InputError(fmt::format("{}: {}/{}: expected a non-negative integer{}", where, path, name,
-                                     it == j.end() ? ", found none" : fmt::format(", got {}", it->dump().substr(0, 40))));
+                                     it == j.end() ? ", found none" : fmt::format(", got {}", escaped(it->dump(), 40))));
     return it->get<std::size_t>();
 }
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.h"
+#include "core/quote.h"
 
 namespace sdfbrick::tune {
 
@@ -75,7 +76,7 @@ std::optional<T4Best> best_t4_result(const nlohmann::json& doc, const TunedKerne
     if (!doc.is_object() || !doc.contains("results") || !doc["results"].is_array())
         throw InputError(fmt::format("{}: not T4 tuning results (expected an object with a \"results\" array)", where));
     if (const auto v = doc.find("schema_version"); v != doc.end() && (!v->is_string() || v->get<std::string>().rfind("1.", 0) != 0))
-        throw InputError(fmt::format("{}: /schema_version: T4 results {} are not read (1.x.y are)", where, v->dump()));
+        throw InputError(fmt::format("{}: /schema_version: T4 results {} are not read (1.x.y are)", where, escaped(v->dump())));
     std::optional<T4Best> best;
     const nlohmann::json& results = doc["results"];
     for (std::size_t i = 0; i < results.size(); ++i) {
