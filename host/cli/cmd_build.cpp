@@ -34,7 +34,7 @@ void run_build(const BuildOptions& o, const GlobalOptions& global) {
     pipeline::BuildCommandReport report;
     report.settings = o.flags.resolve();
     if (o.json) check_output_path(*o.json);
-    const Scene file_scene = load_scene(o.file);
+    const Scene file_scene = load_scene_warned(o.file);
     report.file = o.file;
     report.time = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, report.time);

@@ -157,7 +157,7 @@ void describe_slice(const reference::Slice& slice, EvalReport& r) {
 
 void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     apply_global_options(global);
-    const Scene file_scene = load_scene(o.file);
+    const Scene file_scene = load_scene_warned(o.file);
     EvalReport report;
     report.file = o.file;
     report.time = o.time.value_or(file_scene.time);

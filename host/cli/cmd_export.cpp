@@ -48,7 +48,7 @@ struct HostScene {
 HostScene build_on_host(const SceneOptions& o, const GlobalOptions& global,
                         const std::function<double(const construct::BrickLayout&)>& held = {}) {
     apply_global_options(global, true);
-    const Scene file_scene = load_scene(o.file);
+    const Scene file_scene = load_scene_warned(o.file);
     HostScene h;
     h.scene = scene_at(file_scene, o.time.value_or(file_scene.time));
     const std::unique_ptr<RunDevices> devices = open_run_devices(global);

@@ -83,7 +83,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     o.trace.shade = o.mode == "shaded";
     validate_image_size(o.trace.width, o.trace.height);
 
-    const Scene file_scene = load_scene(o.file);
+    const Scene file_scene = load_scene_warned(o.file);
     const double t = o.time.value_or(file_scene.time);
     const Scene scene = scene_at(file_scene, t);
     const std::filesystem::path out = o.out.value_or(fmt::format("{}-{}.{}", scene.name.empty() ? "scene" : scene.name,

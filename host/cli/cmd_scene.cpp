@@ -31,7 +31,7 @@ struct GenerateOptions {
 };
 
 void run_info(const InfoOptions& o) {
-    Scene scene = load_scene(o.file);
+    Scene scene = load_scene_warned(o.file);
     if (o.time) scene.time = *o.time;
     SceneSummary summary = scene_summary(scene);
     summary.file = o.file;

@@ -70,7 +70,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     if (o.spec.budget < 1) throw InputError("--budget must be at least 1");
     validate_image_size(o.spec.width, o.spec.height);
     const construct::BuildSettings base = o.flags.resolve();
-    const Scene file_scene = load_scene(o.file);
+    const Scene file_scene = load_scene_warned(o.file);
     const Scene scene = scene_at(file_scene, file_scene.time);
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     if (global.no_tuning) throw InputError("tune writes the tuning database: drop --no-tuning");

@@ -14,6 +14,7 @@
 #include "cl/device.h"
 #include "core/errors.h"
 #include "pipeline/executor.h"
+#include "scene/scene.h"
 #include "tune/tuning_db.h"
 
 namespace sdfbrick::cli {
@@ -60,6 +61,10 @@ struct RunDevices {
     pipeline::Executor executor;
 };
 std::unique_ptr<RunDevices> open_run_devices(const GlobalOptions& global);
+
+// The scene file, its reading's warnings (a mesh's winding turned) printed as "warning: " lines on
+// standard error.
+Scene load_scene_warned(const std::filesystem::path& file);
 
 // A number option's check: refuses nan, inf and values that overflow a double ("1e999").
 const CLI::Validator& finite_number();

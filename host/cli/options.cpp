@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iostream>
 #include <map>
 
 #include <fmt/format.h>
@@ -119,6 +120,12 @@ const CLI::Validator& finite_number() {
         },
         "FINITE");
     return check;
+}
+
+Scene load_scene_warned(const std::filesystem::path& file) {
+    Scene s = load_scene(file);
+    for (const std::string& w : s.warnings) std::cerr << "warning: " << w << '\n';
+    return s;
 }
 
 std::string clock_text(double seconds) {

@@ -906,6 +906,8 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def_property_readonly("name", [](const PyScene& s) { return s.scene->name; })
         .def_property_readonly("time", [](const PyScene& s) { return s.scene->time; })
         .def_property_readonly("file", [](const PyScene& s) { return s.file; })
+        .def_property_readonly("warnings", [](const PyScene& s) { return s.scene->warnings; },
+                               "What reading the file changed, one line each (a mesh's winding turned).")
         .def("__repr__", [](const PyScene& s) {
             return fmt::format("<sdfbrick.Scene {} ({} geometries, {} objects{})>", quoted_input(s.scene->name),
                                s.scene->geometries.size(), s.scene->objects.size(), s.file ? ", from " + *s.file : "");

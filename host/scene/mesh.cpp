@@ -29,6 +29,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/quote.h"
+#include "scene/mesh_orient.h"
 
 namespace sdfbrick {
 
@@ -510,7 +511,14 @@ std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file
                                      file, t.open_edges, t.non_manifold_edges, t.edges));
     if (resolution < 2 || resolution > kMaxMeshResolution)
         throw InputError(fmt::format("{}: resolution {} is outside 2..{}", file, resolution, kMaxMeshResolution));
+    MeshOrientation turned;
+    try {
+        turned = orient(mesh);
+    } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", file, e.what()));
+    }
     auto source = std::make_shared<MeshSource>();
+    source->warning = turned.describe();
     const glm::dvec3 e = mesh.bounds().extent();
     const double longest = std::max({e.x, e.y, e.z});
     if (!(longest > 0.0)) throw InputError(fmt::format("{}: the mesh has no extent", file));

@@ -81,11 +81,14 @@ struct MeshSource {
     // (construct/mesh_pool.h) and kept for every later build of the loaded scene.
     std::vector<float> values;
     std::mutex mutex;  // guards values
+    // One line when the file's winding was turned to face outward (scene/mesh_orient.h), else empty.
+    std::string warning;
 };
 
-// A scene's mesh: the grid frame of `resolution` cells along the longest side. Throws InputError
-// naming `file` when the mesh is not closed (open or non-manifold edges: the inside, and so the
-// sign of the distance, is not defined) or too large a resolution.
+// A scene's mesh: oriented (scene/mesh_orient.h: consistently, outward, cavities inward), with the
+// grid frame of `resolution` cells along the longest side. Throws InputError naming `file` when the
+// mesh is not closed (open or non-manifold edges: the inside, and so the sign of the distance, is not
+// defined), cannot be oriented, encloses no volume, or for too large a resolution.
 std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution);
 // A mesh edit of the scene's mesh number `index`: params = the half extents of a box about the
 // mesh's local origin that holds its grid, and the index (kernels/sdf_types.h, SDF_PRIM_MESH).

@@ -133,6 +133,9 @@ struct Scene {
     std::vector<Object> objects;
     Camera camera;
     Light light;
+    // What reading the file changed to make sense of it, one line each (a mesh's winding turned);
+    // the CLI prints them as warnings. Not part of the scene's JSON.
+    std::vector<std::string> warnings;
 };
 
 // ---- per-edit properties (scene.cpp) ----

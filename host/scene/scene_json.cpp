@@ -30,8 +30,10 @@ public:
     Node(const json& value, std::string path, std::string_view origin)
         : value_(value), path_(std::move(path)), origin_(origin) {}
 
+    // The place in the input: "origin: /json/path".
+    std::string where() const { return fmt::format("{}: {}", origin_, path_.empty() ? "/" : shortened_path(path_)); }
     [[noreturn]] void fail(const std::string& what) const {
-        throw InputError(fmt::format("{}: {}: {}", origin_, path_.empty() ? "/" : shortened_path(path_), what));
+        throw InputError(fmt::format("{}: {}", where(), what));
     }
 
     const json& value() const { return value_; }
@@ -240,6 +242,7 @@ struct MeshCatalog {
         std::uint32_t index = 0;
     };
     std::map<std::pair<std::string, int>, Entry> entries;
+    std::vector<std::string> warnings;  // one line per mesh whose winding was turned
 };
 
 std::mutex allowed_folders_mutex;
@@ -296,6 +299,9 @@ Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
                                   catalog.base.empty() ? "" : " " + escaped(catalog.base.string(), kPathEchoLimit)));
         const auto index = static_cast<std::uint32_t>(catalog.entries.size());
         it = catalog.entries.emplace(key, MeshCatalog::Entry{read_mesh_source(file, path, resolution), index}).first;
+        if (!it->second.source->warning.empty())
+            catalog.warnings.push_back(fmt::format("{}: {}: {}", file.where(), escaped(path.string(), kPathEchoLimit),
+                                                   it->second.source->warning));
     }
     return make_mesh_edit(it->second.source, it->second.index);
 }
@@ -413,7 +419,7 @@ Scene read_scene(const json& j, std::string_view origin, const std::filesystem::
     const std::size_t ng = geos.array_size();
     if (ng == 0) geos.fail("needs at least one geometry");
     std::map<std::string, std::size_t> by_name;
-    MeshCatalog meshes{base, {}};
+    MeshCatalog meshes{base, {}, {}};
     for (std::size_t i = 0; i < ng; ++i) {
         const Node g = geos.at(i);
         s.geometries.push_back(read_geometry(g, meshes));
@@ -441,6 +447,7 @@ Scene read_scene(const json& j, std::string_view origin, const std::filesystem::
     }
     s.camera = root.has("camera") ? read_camera(root["camera"]) : default_camera(scene_at(s, s.time));
     if (root.has("light")) s.light = read_light(root["light"]);
+    s.warnings = std::move(meshes.warnings);
     return s;
 }
 

@@ -15,6 +15,7 @@
 #include "reference/field_eval.h"
 #include "reference/reference_field.h"
 #include "scene/mesh.h"
+#include "scene/mesh_orient.h"
 #include "scene/scene_json.h"
 #include "scene/to_device.h"
 #include "test_support.h"
@@ -182,6 +183,36 @@ TEST(ConstructMeshEdit, SceneFormatRoundTripsAndSharesMeshes) {
     const Aabb box = bounds(b.geometries[0].edits[0]);
     EXPECT_LE(box.lo.x, -0.6);
     EXPECT_GE(box.hi.y, 0.6);
+}
+
+// Meshes wound inward, or part inward, give the bricks of the outward files, with a warning that
+// names the place and the file; the reference reads the same oriented triangles.
+TEST(ConstructMeshEdit, InwardAndMixedWindingsGiveTheOutwardBricks) {
+    const fs::path file = write_mixed_scene("mesh_winding");
+    const Scene outward = load_scene(file);
+    EXPECT_TRUE(outward.warnings.empty());
+    TriangleMesh ball = icosphere(0.5, 2), frame = box_with_hole(0.4, 0.15, 0.2);
+    reverse_winding(ball);
+    for (std::size_t t = 0; t < frame.triangles.size(); t += 3) std::swap(frame.triangles[t][1], frame.triangles[t][2]);
+    write_obj(ball, file.parent_path() / "ball.obj");
+    write_ply(frame, file.parent_path() / "frame.ply");
+    const Scene turned = load_scene(file);
+    ASSERT_EQ(turned.warnings.size(), 2u);
+    EXPECT_NE(turned.warnings[0].find("/geometries/0/edits/0/file"), std::string::npos) << turned.warnings[0];
+    EXPECT_NE(turned.warnings[0].find("ball.obj"), std::string::npos) << turned.warnings[0];
+    EXPECT_NE(turned.warnings[1].find("agree with their neighbours"), std::string::npos) << turned.warnings[1];
+    const auto corners = [](const TriangleMesh& m) {  // vertex numbers follow the file's order of first use
+        std::vector<glm::dvec3> c;
+        for (const auto& t : m.triangles)
+            for (std::uint32_t v : t) c.push_back(m.vertices[v]);
+        return c;
+    };
+    for (const std::size_t e : {0, 1})
+        EXPECT_EQ(corners(turned.geometries[0].edits[e].mesh->mesh), corners(outward.geometries[0].edits[e].mesh->mesh)) << e;
+    const construct::BuildSettings s = settings(0.125);
+    construct::BrickBuilder builder(test::device());
+    EXPECT_EQ(construct::output_digest(builder.build(turned.geometries[0], s, test::recorder()), s),
+              construct::output_digest(builder.build(outward.geometries[0], s, test::recorder()), s));
 }
 
 // An open mesh has no inside: the scene is refused, naming the file, the place and the count.
