@@ -51,6 +51,25 @@ double winding_number(const TriangleMesh& mesh, const glm::dvec3& p) {
     return sum / (4.0 * std::numbers::pi);
 }
 
+double grid_distance(const GridFrame& frame, const std::vector<float>& values, const glm::dvec3& p) {
+    const glm::dvec3 top(frame.dims - 1);
+    const glm::dvec3 u = (p - frame.origin) / frame.cell;
+    const glm::dvec3 c = glm::clamp(u, glm::dvec3(0.0), top);
+    const glm::dvec3 base = glm::min(glm::floor(c), top - 1.0), f = c - base;
+    const auto at = [&](int i, int j, int k) {
+        const glm::ivec3 q = glm::ivec3(base) + glm::ivec3(i, j, k);
+        return static_cast<double>(values[static_cast<std::size_t>(q.x) +
+                                          static_cast<std::size_t>(frame.dims.x) *
+                                              (static_cast<std::size_t>(q.y) + static_cast<std::size_t>(frame.dims.y) * q.z)]);
+    };
+    double v = 0.0;
+    for (int n = 0; n < 8; ++n) {
+        const int i = n & 1, j = (n >> 1) & 1, k = (n >> 2) & 1;
+        v += (i ? f.x : 1.0 - f.x) * (j ? f.y : 1.0 - f.y) * (k ? f.z : 1.0 - f.z) * at(i, j, k);
+    }
+    return v + glm::length(u - c) * frame.cell;
+}
+
 double mesh_signed_distance(const TriangleMesh& mesh, const glm::dvec3& p) {
     const double d = mesh_unsigned_distance(mesh, p);
     return winding_number(mesh, p) > 0.5 ? -d : d;

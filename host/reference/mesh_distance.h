@@ -5,6 +5,8 @@
 // sign, which needs no pseudo-normals and no nearest feature. Slow by design: O(triangles) a point.
 #pragma once
 
+#include <vector>
+
 #include <glm/glm.hpp>
 
 #include "scene/mesh.h"
@@ -17,5 +19,10 @@ double mesh_unsigned_distance(const TriangleMesh& mesh, const glm::dvec3& p);
 double winding_number(const TriangleMesh& mesh, const glm::dvec3& p);
 // Negative inside (winding number above 1/2).
 double mesh_signed_distance(const TriangleMesh& mesh, const glm::dvec3& p);
+
+// A level set's distance, where the file's samples are the truth: the trilinear interpolant of the
+// grid's values in double, and outside the grid's box the distance to the box plus the interpolant
+// at its nearest point (the continuation every sampled grid uses).
+double grid_distance(const GridFrame& frame, const std::vector<float>& values, const glm::dvec3& p);
 
 }  // namespace sdfbrick::reference

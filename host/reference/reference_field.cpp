@@ -97,8 +97,9 @@ double primitive_distance(Primitive prim, const std::array<double, 4>& params, c
 
 double edit_value(const Edit& e, const glm::dvec3& p) {
     const glm::dvec3 local = e.transform.inverse_apply(p);
-    const double d = e.primitive == Primitive::Mesh ? mesh_signed_distance(e.mesh->mesh, local)
-                                                    : primitive_distance(e.primitive, e.params, local);
+    const double d = e.primitive != Primitive::Mesh ? primitive_distance(e.primitive, e.params, local)
+                     : e.mesh->level_set()          ? grid_distance(e.mesh->frame, e.mesh->values, local)
+                                                    : mesh_signed_distance(e.mesh->mesh, local);
     return d * e.transform.scale / lipschitz(e);
 }
 

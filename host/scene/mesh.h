@@ -71,10 +71,13 @@ inline constexpr int kMaxMeshResolution = 1024;
 inline constexpr int kMeshPadding = 2;              // cells around the mesh's bounds
 
 // A mesh as a scene uses it: its triangles, and the grid its edits sample. Shared by every edit (and
-// every copy of the scene) that names the same file at the same resolution.
+// every copy of the scene) that names the same file at the same resolution. A level set read from a
+// VDB file (scene/level_set.h) is a source without triangles whose values are the file's.
 struct MeshSource {
     std::string file;  // as the scene names it
-    TriangleMesh mesh;
+    std::string grid;  // a level set's grid name in the file
+    TriangleMesh mesh;  // empty for a level set
+    bool level_set() const { return mesh.triangles.empty(); }
     int resolution = kDefaultMeshResolution;
     GridFrame frame;
     // The grid's values (frame.points() floats), converted on the device on first use

@@ -13,6 +13,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/quote.h"
+#include "scene/level_set.h"
 #include "scene/mesh.h"
 
 namespace sdfbrick {
@@ -159,6 +160,7 @@ Primitive read_primitive(const Node& n) {
         std::string names;
         for (std::size_t i = 0; i < kPrimitiveCount; ++i)
             names += (i ? ", " : "") + std::string(to_string(static_cast<Primitive>(i)));
+        names += ", vdb";
         prim_node.fail(fmt::format("unknown primitive {} (known: {})", quoted_input(prim_name), names));
     }
     return *prim;
@@ -257,6 +259,14 @@ bool mesh_file_allowed(const std::filesystem::path& path, const std::filesystem:
                        [&](const std::filesystem::path& f) { return lies_within(path, f); });
 }
 
+// Refuses a file outside the scene's folder and the folders allowed outside it.
+void check_file_allowed(const Node& file, const std::filesystem::path& path, const std::filesystem::path& base) {
+    if (!mesh_file_allowed(path, base))
+        file.fail(fmt::format("{}: refused: outside the scene's folder{} and the folders allowed outside it",
+                              escaped(path.string(), kPathEchoLimit),
+                              base.empty() ? "" : " " + escaped(base.string(), kPathEchoLimit)));
+}
+
 // The mesh a mesh edit's "file" names. Every refusal names the place in the scene, then the file
 // (load_mesh and make_mesh_source name it first in their messages).
 std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesystem::path& path, int resolution) {
@@ -293,10 +303,7 @@ Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
     const auto key = std::pair(path.string(), resolution);
     auto it = catalog.entries.find(key);
     if (it == catalog.entries.end()) {  // a file is checked and read once per scene
-        if (!mesh_file_allowed(path, catalog.base))
-            file.fail(fmt::format("{}: refused: outside the scene's folder{} and the folders allowed outside it",
-                                  escaped(path.string(), kPathEchoLimit),
-                                  catalog.base.empty() ? "" : " " + escaped(catalog.base.string(), kPathEchoLimit)));
+        check_file_allowed(file, path, catalog.base);
         const auto index = static_cast<std::uint32_t>(catalog.entries.size());
         it = catalog.entries.emplace(key, MeshCatalog::Entry{read_mesh_source(file, path, resolution), index}).first;
         if (!it->second.source->warning.empty())
@@ -306,12 +313,48 @@ Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
     return make_mesh_edit(it->second.source, it->second.index);
 }
 
+// A level-set edit's own fields: the VDB file and the grid's name (optional when the file holds one).
+Edit read_level_set_edit(const Node& n, MeshCatalog& catalog) {
+    std::vector<std::string_view> allowed(kCommonEditFields.begin(), kCommonEditFields.end());
+    allowed.insert(allowed.end(), {"file", "grid"});
+    n.expect_keys(allowed, "a vdb level set");
+    const Node file = n["file"];
+    const std::string name = file.string();
+    if (name.empty()) file.fail("must not be empty");
+    const std::string grid = n.has("grid") ? n["grid"].string() : "";
+    const std::filesystem::path path = (catalog.base / name).lexically_normal();
+    const auto key = std::pair(path.string() + '\n' + grid, -1);
+    auto it = catalog.entries.find(key);
+    if (it == catalog.entries.end()) {
+        check_file_allowed(file, path, catalog.base);
+        std::shared_ptr<MeshSource> source;
+        try {
+            source = make_level_set_source(read_level_set(path, grid), name);
+        } catch (const InputError& e) {
+            file.fail(escaped(e.what(), 2 * kPathEchoLimit));
+        }
+        const auto index = static_cast<std::uint32_t>(catalog.entries.size());
+        it = catalog.entries.emplace(key, MeshCatalog::Entry{std::move(source), index}).first;
+    }
+    return make_mesh_edit(it->second.source, it->second.index);
+}
+
+bool names_level_set(const Node& n) {
+    if (!n.has("primitive")) return false;
+    const json& p = n["primitive"].value();
+    return p.is_string() && p.get<std::string>() == "vdb";
+}
+
 Edit read_edit(const Node& n, MeshCatalog& meshes) {
     if (!n.value().is_object()) n.fail("expected an edit object");
     Edit e;
-    e.primitive = read_primitive(n);
-    if (e.primitive == Primitive::Mesh) e = read_mesh_edit(n, meshes);
-    else e.params = read_params(n, e.primitive);
+    if (names_level_set(n)) {
+        e = read_level_set_edit(n, meshes);
+    } else {
+        e.primitive = read_primitive(n);
+        if (e.primitive == Primitive::Mesh) e = read_mesh_edit(n, meshes);
+        else e.params = read_params(n, e.primitive);
+    }
     read_transform_fields(n, e.transform);
     if (n.has("op")) {
         const Node o = n["op"];
@@ -564,6 +607,12 @@ json edit_to_json(const Edit& e) {
         case Primitive::Ellipsoid: j["radii"] = {p[0], p[1], p[2]}; break;
         case Primitive::Menger: j["half_size"] = p[0]; j["iterations"] = static_cast<int>(p[1]); break;
         case Primitive::Mesh:
+            if (e.mesh->level_set()) {
+                j["primitive"] = "vdb";
+                j["file"] = e.mesh->file;
+                j["grid"] = e.mesh->grid;
+                break;
+            }
             j["file"] = e.mesh->file;
             if (e.mesh->resolution != kDefaultMeshResolution) j["resolution"] = e.mesh->resolution;
             break;
