@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "scene/mesh.h"
+
 namespace sdfbrick {
 
 using nlohmann::json;
@@ -21,10 +23,11 @@ GeometrySummary geometry_summary(const Geometry& g, const Geometry& animated) {
     s.name = g.name;
     s.edits = g.edits.size();
     for (std::size_t i = 0; i < kPrimitiveCount; ++i) s.primitives[std::string(to_string(static_cast<Primitive>(i)))] = 0;
+    s.primitives["vdb"] = 0;  // a level set from a file: a mesh edit without triangles
     for (Op op : {Op::Add, Op::Subtract, Op::Intersect}) s.ops[std::string(to_string(op))] = 0;
     for (std::size_t i = 0; i < g.edits.size(); ++i) {
         const Edit& e = g.edits[i];
-        ++s.primitives[std::string(to_string(e.primitive))];
+        ++s.primitives[e.mesh && e.mesh->level_set() ? std::string("vdb") : std::string(to_string(e.primitive))];
         ++s.ops[std::string(to_string(e.op))];
         s.smooth_edits += e.blend > 0.0;
         s.animated_edits += animated.edits[i].animation.has_value();
