@@ -48,14 +48,9 @@ inline float3 m_closest(float3 p, float3 a, float3 b, float3 c, int* feature) {
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-__kernel void mesh_sdf(__global const SdfBvhNode* nodes, __global const float* corners,
-                       __global const float* normals, float origin_x, float origin_y, float origin_z, float cell,
-                       uint nx, uint ny, uint nz, __global float* out) {
-    const uint id = get_global_id(0);
-    if (id >= nx * ny * nz) return;
-    const uint i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    const float3 p = (float3)(origin_x, origin_y, origin_z) + (float3)((float)i, (float)j, (float)k) * cell;
-
+/* The signed distance from p to the mesh. */
+inline float m_distance(__global const SdfBvhNode* nodes, __global const float* corners, __global const float* normals,
+                        float3 p) {
     float best = INFINITY;
     float3 best_q = p;
     int best_tri = -1, best_feature = 0;
@@ -97,5 +92,30 @@ __kernel void mesh_sdf(__global const SdfBvhNode* nodes, __global const float* c
     }
     const float3 nrm = m_load(normals + 21 * (size_t)best_tri + 3 * best_feature);
     const float s = m_dot(p - best_q, nrm) < 0.0f ? -1.0f : 1.0f;
-    out[id] = s * sqrt(best);
+    return s * sqrt(best);
+}
+
+__kernel void mesh_sdf(__global const SdfBvhNode* nodes, __global const float* corners,
+                       __global const float* normals, float origin_x, float origin_y, float origin_z, float cell,
+                       uint nx, uint ny, uint nz, __global float* out) {
+    const uint id = get_global_id(0);
+    if (id >= nx * ny * nz) return;
+    const uint i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
+    const float3 p = (float3)(origin_x, origin_y, origin_z) + (float3)((float)i, (float)j, (float)k) * cell;
+    out[id] = m_distance(nodes, corners, normals, p);
+}
+
+/* The points of whole tiles of a sparse grid (SdfMeshGrid): tile t = (tiles[3t], tiles[3t+1],
+ * tiles[3t+2]) holds the 9^3 points (8 t + l) of the regular grid, l in 0..8 (i fastest), 729 values a
+ * tile in order. A point's value equals mesh_sdf's at the same (i, j, k). */
+__kernel void mesh_sdf_tiles(__global const SdfBvhNode* nodes, __global const float* corners,
+                             __global const float* normals, float origin_x, float origin_y, float origin_z, float cell,
+                             __global const uint* tiles, uint count, __global float* out) {
+    const uint id = get_global_id(0);
+    if (id >= count * 729u) return;
+    const uint t = id / 729u, l = id % 729u;
+    const uint i = 8u * tiles[3u * t] + l % 9u, j = 8u * tiles[3u * t + 1u] + (l / 9u) % 9u,
+               k = 8u * tiles[3u * t + 2u] + l / 81u;
+    const float3 p = (float3)(origin_x, origin_y, origin_z) + (float3)((float)i, (float)j, (float)k) * cell;
+    out[id] = m_distance(nodes, corners, normals, p);
 }

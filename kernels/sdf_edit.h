@@ -121,10 +121,25 @@ inline float sdf_mesh(__global const float* meshes, uint index, float3 p) {
     const float3 c = fmin(fmax(u, (float3)(0.0f)), top);
     const float outside = sdf_len3(u - c) * g->cell;
     const float3 base = fmin(floor(c), top - 1.0f);
-    const float3 f = c - base;
+    float3 f = c - base;
     const uint i = (uint)base.x, j = (uint)base.y, k = (uint)base.z;
     __global const float* v = meshes + g->offset + i + nx * (j + ny * k);
-    const uint sy = nx, sz = nx * ny;
+    uint sy = nx, sz = nx * ny;
+    if (g->tiles != 0u) {
+        /* sparse: the cell's tile, or the coarse grid where the tile is far from the surface */
+        const uint tx = i >> 3, ty = j >> 3, tz = k >> 3, tnx = (nx + 6u) >> 3, tny = (ny + 6u) >> 3;
+        const uint block = as_uint(meshes[g->tiles + tx + tnx * (ty + tny * tz)]);
+        if (block != SDF_MESH_NO_TILE) {
+            v = meshes + block + (i & 7u) + 9u * ((j & 7u) + 9u * (k & 7u));
+            sy = 9u;
+            sz = 81u;
+        } else {
+            f = (c - (float3)((float)(tx << 3), (float)(ty << 3), (float)(tz << 3))) * 0.125f;
+            v = meshes + g->coarse + tx + (tnx + 1u) * (ty + (tny + 1u) * tz);
+            sy = tnx + 1u;
+            sz = (tnx + 1u) * (tny + 1u);
+        }
+    }
     const float x00 = v[0] + (v[1] - v[0]) * f.x;
     const float x10 = v[sy] + (v[sy + 1u] - v[sy]) * f.x;
     const float x01 = v[sz] + (v[sz + 1u] - v[sz]) * f.x;

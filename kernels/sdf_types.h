@@ -81,15 +81,24 @@ typedef struct SdfEdit {
 /* The signed distance grid of a mesh edit. Every kernel that evaluates edits takes the mesh pool, one
  * float array: the headers of the scene's meshes first (SdfMeshGrid, 12 floats each, indexed by the
  * mesh index of SdfEdit.params[3]), then their values. Grid point (i, j, k) lies at
- * origin + (i, j, k) * cell in the mesh's local frame, its value at pool[offset + i + dims[0] (j + dims[1] k)].
+ * origin + (i, j, k) * cell in the mesh's local frame.
+ * Dense (tiles == 0): its value at pool[offset + i + dims[0] (j + dims[1] k)].
+ * Sparse (tiles != 0): the cells are grouped in tiles of 8^3 (T = ceil((dims - 1) / 8) per axis).
+ * pool[tiles + tx + Tx (ty + Ty tz)] holds, as uint bits, the pool offset of the tile's 9^3 points
+ * (8 t + l, l in 0..8, i fastest), or SDF_MESH_NO_TILE for a tile far from the surface; such a tile
+ * is interpolated from the coarse grid of tile corners (points 8 t, (T + 1) per axis, at pool[coarse +
+ * tx + (Tx + 1) (ty + (Ty + 1) tz)]), which hold a lower bound of the distance's magnitude there.
  * A scene without meshes passes a pool of one unread float. */
+#define SDF_MESH_NO_TILE 0xffffffffu
 typedef struct SdfMeshGrid {
     sdf_f32 origin[3];
     sdf_f32 cell;
     sdf_f32 inv_cell;
     sdf_u32 dims[3];   /* points per axis, each >= 2 */
-    sdf_u32 offset;    /* first value, in floats from the pool's start */
-    sdf_u32 pad[3];
+    sdf_u32 offset;    /* dense: first value, in floats from the pool's start */
+    sdf_u32 tiles;     /* sparse: the tile table's first entry; 0 for a dense grid */
+    sdf_u32 coarse;    /* sparse: the coarse grid's first value */
+    sdf_u32 pad;
 } SdfMeshGrid;
 
 /* Axis-aligned bounds. */

@@ -1,6 +1,7 @@
 #include "construct/mesh_grid.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -140,42 +141,115 @@ MeshBvh build_mesh_bvh(const TriangleMesh& mesh) {
 }
 
 MeshGridBuilder::MeshGridBuilder(ocl::Device& device)
-    : device_(device), program_(ocl::build_program(device, "mesh_sdf.cl")), kernel_(ocl::make_kernel(program_, "mesh_sdf")) {}
+    : device_(device),
+      program_(ocl::build_program(device, "mesh_sdf.cl")),
+      kernel_(ocl::make_kernel(program_, "mesh_sdf")),
+      tiles_kernel_(ocl::make_kernel(program_, "mesh_sdf_tiles")) {}
 
 MeshGrid MeshGridBuilder::build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler) {
     return build(mesh, grid_frame(mesh, spec.cell, spec.padding), scheduler);
 }
 
+// The mesh's triangle tree, corners and pseudo-normals on the device.
+struct MeshGridBuilder::Triangles {
+    ocl::Buffer<SdfBvhNode> nodes;
+    ocl::Buffer<float> corners, normals;
+};
+
+MeshGridBuilder::Triangles MeshGridBuilder::upload(const TriangleMesh& mesh) const {
+    const MeshBvh bvh = build_mesh_bvh(mesh);
+    if (bvh.depth >= kKernelStack)
+        throw InputError(fmt::format("the mesh's triangle tree is {} levels deep; the kernel holds {}", bvh.depth, kKernelStack));
+    const auto copy = [&](auto data, const char* what) {
+        using T = typename decltype(data)::value_type;
+        check_fits(data.size_bytes(), what);
+        return ocl::Buffer<T>(device_, data, CL_MEM_READ_ONLY);
+    };
+    return {copy(std::span<const SdfBvhNode>(bvh.nodes), "the triangle tree nodes"),
+            copy(std::span<const float>(bvh.corners), "the triangle corners"),
+            copy(std::span<const float>(bvh.normals), "the pseudo-normals")};
+}
+
+void MeshGridBuilder::check_fits(std::size_t bytes, const char* what) const {
+    if (bytes > device_.info().max_alloc_bytes)
+        throw InputError(fmt::format("{} of the mesh need {} bytes; {} allocates at most {} bytes at once", what, bytes,
+                                     device_.info().name, device_.info().max_alloc_bytes));
+}
+
 MeshGrid MeshGridBuilder::build(const TriangleMesh& mesh, const GridFrame& frame, measure::Scheduler& scheduler) {
+    return build(upload(mesh), frame, scheduler);
+}
+
+MeshGrid MeshGridBuilder::build(const Triangles& tris, const GridFrame& frame, measure::Scheduler& scheduler) {
     MeshGrid grid;
     grid.origin = frame.origin;
     grid.cell = frame.cell;
     grid.dims = frame.dims;
     const std::size_t points = frame.points();
-    const MeshBvh bvh = build_mesh_bvh(mesh);
-    if (bvh.depth >= kKernelStack)
-        throw InputError(fmt::format("the mesh's triangle tree is {} levels deep; the kernel holds {}", bvh.depth, kKernelStack));
-    const auto upload = [&](auto data, const char* what) {
-        using T = typename decltype(data)::value_type;
-        if (data.size_bytes() > device_.info().max_alloc_bytes)
-            throw InputError(fmt::format("{} of the mesh need {} bytes; {} allocates at most {} bytes at once", what,
-                                         data.size_bytes(), device_.info().name, device_.info().max_alloc_bytes));
-        return ocl::Buffer<T>(device_, data, CL_MEM_READ_ONLY);
-    };
-    const auto nodes = upload(std::span<const SdfBvhNode>(bvh.nodes), "the triangle tree nodes");
-    const auto corners = upload(std::span<const float>(bvh.corners), "the triangle corners");
-    const auto normals = upload(std::span<const float>(bvh.normals), "the pseudo-normals");
-    if (points * sizeof(float) > device_.info().max_alloc_bytes)
-        throw InputError(fmt::format("a mesh grid of {} points needs {} bytes; {} allocates at most {} bytes at once",
-                                     points, points * sizeof(float), device_.info().name, device_.info().max_alloc_bytes));
+    check_fits(points * sizeof(float), "the grid's points");
     ocl::Buffer<float> out(device_, points);
     const glm::vec3 o(grid.origin);
-    ocl::set_args(kernel_.get(), nodes, corners, normals, o.x, o.y, o.z, static_cast<float>(grid.cell),
+    ocl::set_args(kernel_.get(), tris.nodes, tris.corners, tris.normals, o.x, o.y, o.z, static_cast<float>(grid.cell),
                   static_cast<cl_uint>(grid.dims.x), static_cast<cl_uint>(grid.dims.y), static_cast<cl_uint>(grid.dims.z), out);
     const std::size_t group = 64;
     scheduler.launch(measure::Stage::mesh, -1, kernel_.get(), (points + group - 1) / group * group, group);
     grid.values = out.read();
     return grid;
+}
+
+SparseMeshGrid MeshGridBuilder::build_sparse(const TriangleMesh& mesh, const GridFrame& frame, double band,
+                                             measure::Scheduler& scheduler) {
+    const Triangles tris = upload(mesh);
+    SparseMeshGrid out;
+    out.tiles = (frame.dims - 1 + kMeshTile - 1) / kMeshTile;
+    // The exact distances at the tile corners: the points 8 t of the same grid (cell times 8 is exact
+    // in float, so these are the very points of the fine grid).
+    GridFrame coarse = frame;
+    coarse.cell = frame.cell * kMeshTile;
+    coarse.dims = out.tiles + 1;
+    const MeshGrid corners = build(tris, coarse, scheduler);
+    // A tile all of whose corners lie at least its diagonal plus `band` from the surface holds no point
+    // nearer than `band`: it keeps no values and reads the coarse grid, each corner's distance less
+    // the diagonal, a lower bound of the distance anywhere in the tiles about it (a little more is
+    // taken off for the float rounding of the corners' distances).
+    const double diagonal = kMeshTile * frame.cell * std::sqrt(3.0) * (1.0 + 1e-5);
+    const auto far = [&](int x, int y, int z) { return std::abs(corners.at(x, y, z)) >= diagonal + band; };
+    std::vector<cl_uint> active;
+    const std::size_t table = static_cast<std::size_t>(out.tiles.x) * out.tiles.y * out.tiles.z;
+    out.values.assign(table + corners.values.size(), 0.0f);
+    std::size_t next = out.values.size();
+    for (int z = 0, t = 0; z < out.tiles.z; ++z)
+        for (int y = 0; y < out.tiles.y; ++y)
+            for (int x = 0; x < out.tiles.x; ++x, ++t) {
+                bool keep = false;
+                for (int c = 0; c < 8 && !keep; ++c) keep = !far(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
+                cl_uint entry = SDF_MESH_NO_TILE;
+                if (keep) {
+                    entry = static_cast<cl_uint>(next);
+                    next += kMeshTilePoints;
+                    active.insert(active.end(), {cl_uint(x), cl_uint(y), cl_uint(z)});
+                }
+                std::memcpy(&out.values[t], &entry, sizeof entry);
+            }
+    for (std::size_t i = 0; i < corners.values.size(); ++i) {
+        const float d = corners.values[i];
+        out.values[table + i] = std::copysign(static_cast<float>(std::max(std::abs(double(d)) - diagonal, 0.0)), d);
+    }
+    out.active = active.size() / 3;
+    if (out.active > 0) {
+        check_fits(out.active * kMeshTilePoints * sizeof(float), "the band's tiles");
+        const ocl::Buffer<cl_uint> list(device_, std::span<const cl_uint>(active), CL_MEM_READ_ONLY);
+        ocl::Buffer<float> values(device_, out.active * kMeshTilePoints);
+        const glm::vec3 o(frame.origin);
+        const auto count = static_cast<cl_uint>(out.active);
+        ocl::set_args(tiles_kernel_.get(), tris.nodes, tris.corners, tris.normals, o.x, o.y, o.z,
+                      static_cast<float>(frame.cell), list, count, values);
+        const std::size_t group = 64, items = out.active * kMeshTilePoints;
+        scheduler.launch(measure::Stage::mesh, -1, tiles_kernel_.get(), (items + group - 1) / group * group, group);
+        const std::vector<float> v = values.read();
+        out.values.insert(out.values.end(), v.begin(), v.end());
+    }
+    return out;
 }
 
 }  // namespace sdfbrick::construct

@@ -50,6 +50,20 @@ struct MeshBvh {
 };
 MeshBvh build_mesh_bvh(const TriangleMesh& mesh);
 
+// A sparse grid over a GridFrame (kernels/sdf_types.h, SdfMeshGrid with tiles): the cells in tiles of
+// kMeshTile^3, exact values (kMeshTilePoints a tile, the same bits as the dense grid's points) in
+// every tile that comes within `band` of the surface, and the coarse grid of tile corners (a lower
+// bound of the distance's magnitude, signed) for the others. `values`: the tile table (uint bits:
+// the offset of the tile's points in `values`, or SDF_MESH_NO_TILE), the coarse grid, the tiles.
+inline constexpr int kMeshTile = 8;
+inline constexpr std::size_t kMeshTilePoints = 9 * 9 * 9;
+struct SparseMeshGrid {
+    glm::ivec3 tiles{0};  // per axis: ceil(cells / kMeshTile)
+    std::size_t active = 0;
+    std::vector<float> values;
+    std::size_t table_size() const { return static_cast<std::size_t>(tiles.x) * tiles.y * tiles.z; }
+};
+
 class MeshGridBuilder {
 public:
     explicit MeshGridBuilder(ocl::Device& device);
@@ -59,11 +73,21 @@ public:
     MeshGrid build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler);
     // The grid at the points of `frame` (scene/mesh.h, grid_frame).
     MeshGrid build(const TriangleMesh& mesh, const GridFrame& frame, measure::Scheduler& scheduler);
+    // The sparse grid over `frame`, exact within `band` (mesh units) of the surface: two launches
+    // (the tile corners, then the points of the tiles kept), both recorded as stage "mesh".
+    SparseMeshGrid build_sparse(const TriangleMesh& mesh, const GridFrame& frame, double band,
+                                measure::Scheduler& scheduler);
 
 private:
+    struct Triangles;
+    Triangles upload(const TriangleMesh& mesh) const;
+    void check_fits(std::size_t bytes, const char* what) const;
+    MeshGrid build(const Triangles& tris, const GridFrame& frame, measure::Scheduler& scheduler);
+
     ocl::Device& device_;
     ocl::Program program_;
     ocl::Kernel kernel_;
+    ocl::Kernel tiles_kernel_;
 };
 
 }  // namespace sdfbrick::construct

@@ -23,16 +23,20 @@ const std::vector<float>& grid_values(MeshSource& source, std::optional<MeshGrid
     std::lock_guard lock(source.mutex);
     if (source.values.empty()) {
         if (!builder) builder.emplace(device);
-        MeshGrid grid = builder->build(source.mesh, source.frame, scheduler);
-        source.values = std::move(grid.values);
+        source.values = source.sparse ? builder->build_sparse(source.mesh, source.frame, source.band, scheduler).values
+                                      : builder->build(source.mesh, source.frame, scheduler).values;
     }
-    if (source.values.size() != source.frame.points())
+    if (!source.sparse && source.values.size() != source.frame.points())
         throw std::logic_error(fmt::format("mesh_pool: the grid of {} holds {} values for {} points", source.file,
                                            source.values.size(), source.frame.points()));
     return source.values;
 }
 
-SdfMeshGrid header(const GridFrame& f, std::size_t offset) {
+// The tiles per axis of a sparse grid over f.
+glm::ivec3 tiles_of(const GridFrame& f) { return (f.dims - 1 + kMeshTile - 1) / kMeshTile; }
+
+SdfMeshGrid header(const MeshSource& s, std::size_t offset) {
+    const GridFrame& f = s.frame;
     SdfMeshGrid h{};
     for (int a = 0; a < 3; ++a) {
         h.origin[a] = static_cast<float>(f.origin[a]);
@@ -41,6 +45,11 @@ SdfMeshGrid header(const GridFrame& f, std::size_t offset) {
     h.cell = static_cast<float>(f.cell);
     h.inv_cell = static_cast<float>(1.0 / f.cell);
     h.offset = static_cast<sdf_u32>(offset);
+    if (s.sparse) {
+        const glm::ivec3 t = tiles_of(f);
+        h.tiles = static_cast<sdf_u32>(offset);
+        h.coarse = static_cast<sdf_u32>(offset + static_cast<std::size_t>(t.x) * t.y * t.z);
+    }
     return h;
 }
 
@@ -56,19 +65,28 @@ std::vector<float> mesh_pool(std::span<const Geometry> geometries, ocl::Device& 
             slots[index] = e.mesh.get();
         }
     if (slots.empty()) return {0.0f};
+    std::optional<MeshGridBuilder> builder;
     std::size_t total = slots.size() * kHeaderFloats;
-    for (const MeshSource* s : slots) total += s ? s->frame.points() : 0;
+    for (MeshSource* s : slots) total += s ? grid_values(*s, builder, device, scheduler).size() : 0;
     if (total > std::numeric_limits<sdf_u32>::max() || total * sizeof(float) > device.info().max_alloc_bytes)
         throw InputError(fmt::format("the scene's mesh grids need {} bytes; {} allocates at most {} bytes at once",
                                      total * sizeof(float), device.info().name, device.info().max_alloc_bytes));
     std::vector<float> pool(slots.size() * kHeaderFloats, 0.0f);
-    std::optional<MeshGridBuilder> builder;
+    pool.reserve(total);
     for (std::size_t i = 0; i < slots.size(); ++i) {
         if (!slots[i]) continue;
-        const SdfMeshGrid h = header(slots[i]->frame, pool.size());
+        const std::size_t base = pool.size();
+        const SdfMeshGrid h = header(*slots[i], base);
         std::memcpy(pool.data() + i * kHeaderFloats, &h, sizeof h);
-        const std::vector<float>& values = grid_values(*slots[i], builder, device, scheduler);
-        pool.insert(pool.end(), values.begin(), values.end());
+        pool.insert(pool.end(), slots[i]->values.begin(), slots[i]->values.end());
+        if (!slots[i]->sparse) continue;
+        const glm::ivec3 t = tiles_of(slots[i]->frame);  // the tile table: offsets within the grid -> within the pool
+        for (std::size_t e = base; e < base + static_cast<std::size_t>(t.x) * t.y * t.z; ++e) {
+            sdf_u32 entry = 0;
+            std::memcpy(&entry, &pool[e], sizeof entry);
+            if (entry != SDF_MESH_NO_TILE) entry += static_cast<sdf_u32>(base);
+            std::memcpy(&pool[e], &entry, sizeof entry);
+        }
     }
     return pool;
 }

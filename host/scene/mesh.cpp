@@ -503,14 +503,16 @@ GridFrame grid_frame(const TriangleMesh& mesh, double cell, int padding) {
     return f;
 }
 
-std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution) {
+std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution, bool sparse) {
     const MeshTopology t = topology(mesh);
     if (!t.closed())
         throw InputError(fmt::format("{}: the mesh is not closed ({} open edges, {} non-manifold edges of {}): its "
                                      "inside, and so the sign of its distance, is not defined",
                                      file, t.open_edges, t.non_manifold_edges, t.edges));
-    if (resolution < 2 || resolution > kMaxMeshResolution)
-        throw InputError(fmt::format("{}: resolution {} is outside 2..{}", file, resolution, kMaxMeshResolution));
+    const int most = sparse ? kMaxSparseMeshResolution : kMaxMeshResolution;
+    if (resolution < 2 || resolution > most)
+        throw InputError(fmt::format("{}: resolution {} is outside 2..{} for a {} grid", file, resolution, most,
+                                     sparse ? "sparse" : "dense"));
     MeshOrientation turned;
     try {
         turned = orient(mesh);
@@ -523,6 +525,8 @@ std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file
     const double longest = std::max({e.x, e.y, e.z});
     if (!(longest > 0.0)) throw InputError(fmt::format("{}: the mesh has no extent", file));
     source->frame = grid_frame(mesh, longest / resolution, kMeshPadding);
+    source->sparse = sparse;
+    source->band = kMeshBandCells * source->frame.cell;
     source->mesh = std::move(mesh);
     source->file = std::move(file);
     source->resolution = resolution;

@@ -69,6 +69,8 @@ GridFrame grid_frame(const TriangleMesh& mesh, double cell, int padding);
 inline constexpr int kDefaultMeshResolution = 64;  // cells along the longest side of the mesh's bounds
 inline constexpr int kMaxMeshResolution = 1024;
 inline constexpr int kMeshPadding = 2;              // cells around the mesh's bounds
+inline constexpr int kMaxSparseMeshResolution = 2048;
+inline constexpr double kMeshBandCells = 8.0;        // a sparse grid is exact at least this far from the surface
 
 // A mesh as a scene uses it: its triangles, and the grid its edits sample. Shared by every edit (and
 // every copy of the scene) that names the same file at the same resolution. A level set read from a
@@ -80,8 +82,12 @@ struct MeshSource {
     bool level_set() const { return mesh.triangles.empty(); }
     int resolution = kDefaultMeshResolution;
     GridFrame frame;
-    // The grid's values (frame.points() floats), converted on the device on first use
-    // (construct/mesh_pool.h) and kept for every later build of the loaded scene.
+    // Sparse (the default for meshes): only tiles of cells near the surface hold values, exact within
+    // `band` of it (construct/mesh_grid.h, SparseMeshGrid); dense: every point of the frame.
+    bool sparse = false;
+    double band = 0.0;  // mesh units: kMeshBandCells cells, or more where a smooth blend reaches further
+    // The grid's values (dense: frame.points() floats; sparse: SparseMeshGrid::values), converted on the
+    // device on first use (construct/mesh_pool.h) and kept for every later build of the loaded scene.
     std::vector<float> values;
     std::mutex mutex;  // guards values
     // One line when the file's winding was turned to face outward (scene/mesh_orient.h), else empty.
@@ -92,7 +98,7 @@ struct MeshSource {
 // grid frame of `resolution` cells along the longest side. Throws InputError naming `file` when the
 // mesh is not closed (open or non-manifold edges: the inside, and so the sign of the distance, is not
 // defined), cannot be oriented, encloses no volume, or for too large a resolution.
-std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution);
+std::shared_ptr<MeshSource> make_mesh_source(TriangleMesh mesh, std::string file, int resolution, bool sparse = true);
 // A mesh edit of the scene's mesh number `index`: params = the half extents of a box about the
 // mesh's local origin that holds its grid, and the index (kernels/sdf_types.h, SDF_PRIM_MESH).
 Edit make_mesh_edit(std::shared_ptr<MeshSource> source, std::uint32_t index);

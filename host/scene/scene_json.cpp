@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <tuple>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -243,7 +244,7 @@ struct MeshCatalog {
         std::shared_ptr<MeshSource> source;
         std::uint32_t index = 0;
     };
-    std::map<std::pair<std::string, int>, Entry> entries;
+    std::map<std::tuple<std::string, int, bool>, Entry> entries;  // file (and grid), resolution, sparse
     std::vector<std::string> warnings;  // one line per mesh whose winding was turned
 };
 
@@ -269,7 +270,8 @@ void check_file_allowed(const Node& file, const std::filesystem::path& path, con
 
 // The mesh a mesh edit's "file" names. Every refusal names the place in the scene, then the file
 // (load_mesh and make_mesh_source name it first in their messages).
-std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesystem::path& path, int resolution) {
+std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesystem::path& path, int resolution,
+                                             bool sparse) {
     const auto named = [&](auto&& step) {
         try {
             return step();
@@ -284,28 +286,36 @@ std::shared_ptr<MeshSource> read_mesh_source(const Node& file, const std::filesy
     if (reach > kSceneNumberLimit)
         file.fail(fmt::format("{}: a vertex coordinate of magnitude {} is out of range: scene numbers lie in [-{:g}, {:g}]",
                               escaped(path.string(), kPathEchoLimit), reach, kSceneNumberLimit, kSceneNumberLimit));
-    auto source = named([&] { return make_mesh_source(std::move(mesh), path.string(), resolution); });
+    auto source = named([&] { return make_mesh_source(std::move(mesh), path.string(), resolution, sparse); });
     source->file = file.string();
     return source;
 }
 
-// A mesh edit's own fields: the file and the grid's resolution (cells along the longest side).
+// A mesh edit's own fields: the file, the grid's resolution (cells along the longest side) and kind.
 Edit read_mesh_edit(const Node& n, MeshCatalog& catalog) {
     std::vector<std::string_view> allowed(kCommonEditFields.begin(), kCommonEditFields.end());
-    allowed.insert(allowed.end(), {"file", "resolution"});
+    allowed.insert(allowed.end(), {"file", "resolution", "grid"});
     n.expect_keys(allowed, "a mesh");
     const Node file = n["file"];
     const std::string name = file.string();
     if (name.empty()) file.fail("must not be empty");
-    const int resolution =
-        n.has("resolution") ? n["resolution"].integer(2, kMaxMeshResolution) : kDefaultMeshResolution;
+    bool sparse = true;
+    if (n.has("grid")) {
+        const std::string kind = n["grid"].string();
+        if (kind != "sparse" && kind != "dense")
+            n["grid"].fail(fmt::format("unknown grid {} (known: sparse, dense)", quoted_input(kind)));
+        sparse = kind == "sparse";
+    }
+    const int resolution = n.has("resolution")
+                               ? n["resolution"].integer(2, sparse ? kMaxSparseMeshResolution : kMaxMeshResolution)
+                               : kDefaultMeshResolution;
     const std::filesystem::path path = (catalog.base / name).lexically_normal();
-    const auto key = std::pair(path.string(), resolution);
+    const auto key = std::tuple(path.string(), resolution, sparse);
     auto it = catalog.entries.find(key);
     if (it == catalog.entries.end()) {  // a file is checked and read once per scene
         check_file_allowed(file, path, catalog.base);
         const auto index = static_cast<std::uint32_t>(catalog.entries.size());
-        it = catalog.entries.emplace(key, MeshCatalog::Entry{read_mesh_source(file, path, resolution), index}).first;
+        it = catalog.entries.emplace(key, MeshCatalog::Entry{read_mesh_source(file, path, resolution, sparse), index}).first;
         if (!it->second.source->warning.empty())
             catalog.warnings.push_back(fmt::format("{}: {}: {}", file.where(), escaped(path.string(), kPathEchoLimit),
                                                    it->second.source->warning));
@@ -323,7 +333,7 @@ Edit read_level_set_edit(const Node& n, MeshCatalog& catalog) {
     if (name.empty()) file.fail("must not be empty");
     const std::string grid = n.has("grid") ? n["grid"].string() : "";
     const std::filesystem::path path = (catalog.base / name).lexically_normal();
-    const auto key = std::pair(path.string() + '\n' + grid, -1);
+    const auto key = std::tuple(path.string() + '\n' + grid, -1, false);
     auto it = catalog.entries.find(key);
     if (it == catalog.entries.end()) {
         check_file_allowed(file, path, catalog.base);
@@ -364,6 +374,8 @@ Edit read_edit(const Node& n, MeshCatalog& meshes) {
         e.op = *op;
     }
     if (n.has("blend")) e.blend = n["blend"].non_negative();
+    if (e.mesh && e.mesh->sparse)  // exact wherever the blend can reach: value < blend, in mesh units
+        e.mesh->band = std::max(e.mesh->band, e.blend * lipschitz(e) / e.transform.scale);
     if (n.has("animation")) e.animation = read_animation(n["animation"]);
     return e;
 }
@@ -615,6 +627,7 @@ json edit_to_json(const Edit& e) {
             }
             j["file"] = e.mesh->file;
             if (e.mesh->resolution != kDefaultMeshResolution) j["resolution"] = e.mesh->resolution;
+            if (!e.mesh->sparse) j["grid"] = "dense";
             break;
     }
     write_transform_fields(j, e.transform);

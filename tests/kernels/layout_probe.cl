@@ -63,5 +63,7 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
     out[n++] = SDF_OFF(mesh, inv_cell);
     out[n++] = SDF_OFF(mesh, dims);
     out[n++] = SDF_OFF(mesh, offset);
+    out[n++] = SDF_OFF(mesh, tiles);
+    out[n++] = SDF_OFF(mesh, coarse);
     out[n++] = 0xC0FFEEu; /* end marker: the host checks it to know the list was not cut short */
 }
