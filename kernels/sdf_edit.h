@@ -134,10 +134,19 @@ inline float sdf_mesh(__global const float* meshes, uint index, float3 p) {
             sy = 9u;
             sz = 81u;
         } else {
-            f = (c - (float3)((float)(tx << 3), (float)(ty << 3), (float)(tz << 3))) * 0.125f;
+            /* far from the surface: a lower bound from the exact distances at the corners and centre */
+            const float3 q = c - (float3)((float)(tx << 3), (float)(ty << 3), (float)(tz << 3));
+            const float centre = meshes[g->centres + tx + tnx * (ty + tny * tz)];
+            float bound = fabs(centre) - sdf_len3(q - (float3)(4.0f)) * g->cell;
             v = meshes + g->coarse + tx + (tnx + 1u) * (ty + (tny + 1u) * tz);
             sy = tnx + 1u;
             sz = (tnx + 1u) * (tny + 1u);
+            for (uint n = 0u; n < 8u; ++n) {
+                const float3 o = (float3)((float)(n & 1u), (float)((n >> 1) & 1u), (float)(n >> 2)) * 8.0f;
+                const float d = fabs(v[(n & 1u) + sy * ((n >> 1) & 1u) + sz * (n >> 2)]);
+                bound = fmax(bound, d - sdf_len3(q - o) * g->cell);
+            }
+            return copysign(bound, centre) + outside;
         }
     }
     const float x00 = v[0] + (v[1] - v[0]) * f.x;

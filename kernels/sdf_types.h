@@ -85,9 +85,11 @@ typedef struct SdfEdit {
  * Dense (tiles == 0): its value at pool[offset + i + dims[0] (j + dims[1] k)].
  * Sparse (tiles != 0): the cells are grouped in tiles of 8^3 (T = ceil((dims - 1) / 8) per axis).
  * pool[tiles + tx + Tx (ty + Ty tz)] holds, as uint bits, the pool offset of the tile's 9^3 points
- * (8 t + l, l in 0..8, i fastest), or SDF_MESH_NO_TILE for a tile far from the surface; such a tile
- * is interpolated from the coarse grid of tile corners (points 8 t, (T + 1) per axis, at pool[coarse +
- * tx + (Tx + 1) (ty + (Ty + 1) tz)]), which hold a lower bound of the distance's magnitude there.
+ * (8 t + l, l in 0..8, i fastest), or SDF_MESH_NO_TILE for a tile far from the surface. Such a tile
+ * reads the exact distances at its 8 corners (points 8 t, (T + 1) per axis, at pool[coarse + tx +
+ * (Tx + 1) (ty + (Ty + 1) tz)]) and at its centre (point 8 t + 4, at pool[centres + tx + Tx (ty + Ty tz)])
+ * and gives the largest of |d_q| - |p - q| over those 9 points q, signed as the centre: a lower bound
+ * of the distance's magnitude, 1-Lipschitz within the tile.
  * A scene without meshes passes a pool of one unread float. */
 #define SDF_MESH_NO_TILE 0xffffffffu
 typedef struct SdfMeshGrid {
@@ -97,8 +99,8 @@ typedef struct SdfMeshGrid {
     sdf_u32 dims[3];   /* points per axis, each >= 2 */
     sdf_u32 offset;    /* dense: first value, in floats from the pool's start */
     sdf_u32 tiles;     /* sparse: the tile table's first entry; 0 for a dense grid */
-    sdf_u32 coarse;    /* sparse: the coarse grid's first value */
-    sdf_u32 pad;
+    sdf_u32 coarse;    /* sparse: the tile corners' first value */
+    sdf_u32 centres;   /* sparse: the tile centres' first value */
 } SdfMeshGrid;
 
 /* Axis-aligned bounds. */

@@ -208,33 +208,31 @@ SparseMeshGrid MeshGridBuilder::build_sparse(const TriangleMesh& mesh, const Gri
     coarse.cell = frame.cell * kMeshTile;
     coarse.dims = out.tiles + 1;
     const MeshGrid corners = build(tris, coarse, scheduler);
-    // A tile all of whose corners lie at least its diagonal plus `band` from the surface holds no point
-    // nearer than `band`: it keeps no values and reads the coarse grid, each corner's distance less
-    // the diagonal, a lower bound of the distance anywhere in the tiles about it (a little more is
-    // taken off for the float rounding of the corners' distances).
-    const double diagonal = kMeshTile * frame.cell * std::sqrt(3.0) * (1.0 + 1e-5);
-    const auto far = [&](int x, int y, int z) { return std::abs(corners.at(x, y, z)) >= diagonal + band; };
+    GridFrame middle = coarse;  // the tile centres, points 8 t + 4
+    middle.origin = glm::dvec3(glm::vec3(frame.origin + 0.5 * coarse.cell));
+    middle.dims = out.tiles;
+    const MeshGrid centres = build(tris, middle, scheduler);
+    // A tile whose centre lies at least half its diagonal plus `band` from the surface holds no point
+    // nearer than `band`: it keeps no values (the lookup bounds the distance from its corners and
+    // centre); a little more is asked for the float rounding of the centre's distance.
+    const double half_diagonal = 0.5 * kMeshTile * frame.cell * std::sqrt(3.0) * (1.0 + 1e-5);
     std::vector<cl_uint> active;
-    const std::size_t table = static_cast<std::size_t>(out.tiles.x) * out.tiles.y * out.tiles.z;
-    out.values.assign(table + corners.values.size(), 0.0f);
+    const std::size_t table = out.table_size();
+    out.values.assign(table, 0.0f);
+    out.values.insert(out.values.end(), corners.values.begin(), corners.values.end());
+    out.values.insert(out.values.end(), centres.values.begin(), centres.values.end());
     std::size_t next = out.values.size();
     for (int z = 0, t = 0; z < out.tiles.z; ++z)
         for (int y = 0; y < out.tiles.y; ++y)
             for (int x = 0; x < out.tiles.x; ++x, ++t) {
-                bool keep = false;
-                for (int c = 0; c < 8 && !keep; ++c) keep = !far(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
                 cl_uint entry = SDF_MESH_NO_TILE;
-                if (keep) {
+                if (std::abs(centres.at(x, y, z)) < half_diagonal + band) {
                     entry = static_cast<cl_uint>(next);
                     next += kMeshTilePoints;
                     active.insert(active.end(), {cl_uint(x), cl_uint(y), cl_uint(z)});
                 }
                 std::memcpy(&out.values[t], &entry, sizeof entry);
             }
-    for (std::size_t i = 0; i < corners.values.size(); ++i) {
-        const float d = corners.values[i];
-        out.values[table + i] = std::copysign(static_cast<float>(std::max(std::abs(double(d)) - diagonal, 0.0)), d);
-    }
     out.active = active.size() / 3;
     if (out.active > 0) {
         check_fits(out.active * kMeshTilePoints * sizeof(float), "the band's tiles");

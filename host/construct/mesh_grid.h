@@ -52,9 +52,10 @@ MeshBvh build_mesh_bvh(const TriangleMesh& mesh);
 
 // A sparse grid over a GridFrame (kernels/sdf_types.h, SdfMeshGrid with tiles): the cells in tiles of
 // kMeshTile^3, exact values (kMeshTilePoints a tile, the same bits as the dense grid's points) in
-// every tile that comes within `band` of the surface, and the coarse grid of tile corners (a lower
-// bound of the distance's magnitude, signed) for the others. `values`: the tile table (uint bits:
-// the offset of the tile's points in `values`, or SDF_MESH_NO_TILE), the coarse grid, the tiles.
+// every tile that comes within `band` of the surface; the others are bounded from the exact
+// distances at every tile's corners and centre. `values`: the tile table (uint bits: the offset of
+// the tile's points in `values`, or SDF_MESH_NO_TILE), the corners ((tiles + 1)^3), the centres
+// (tiles^3), the tiles' points.
 inline constexpr int kMeshTile = 8;
 inline constexpr std::size_t kMeshTilePoints = 9 * 9 * 9;
 struct SparseMeshGrid {
@@ -73,8 +74,8 @@ public:
     MeshGrid build(const TriangleMesh& mesh, const MeshGridSpec& spec, measure::Scheduler& scheduler);
     // The grid at the points of `frame` (scene/mesh.h, grid_frame).
     MeshGrid build(const TriangleMesh& mesh, const GridFrame& frame, measure::Scheduler& scheduler);
-    // The sparse grid over `frame`, exact within `band` (mesh units) of the surface: two launches
-    // (the tile corners, then the points of the tiles kept), both recorded as stage "mesh".
+    // The sparse grid over `frame`, exact within `band` (mesh units) of the surface: three launches
+    // (the tile corners, the tile centres, then the points of the tiles kept), recorded as stage "mesh".
     SparseMeshGrid build_sparse(const TriangleMesh& mesh, const GridFrame& frame, double band,
                                 measure::Scheduler& scheduler);
 

@@ -48,7 +48,9 @@ SdfMeshGrid header(const MeshSource& s, std::size_t offset) {
     if (s.sparse) {
         const glm::ivec3 t = tiles_of(f);
         h.tiles = static_cast<sdf_u32>(offset);
-        h.coarse = static_cast<sdf_u32>(offset + static_cast<std::size_t>(t.x) * t.y * t.z);
+        const std::size_t table = static_cast<std::size_t>(t.x) * t.y * t.z;
+        h.coarse = static_cast<sdf_u32>(offset + table);
+        h.centres = static_cast<sdf_u32>(offset + table + static_cast<std::size_t>(t.x + 1) * (t.y + 1) * (t.z + 1));
     }
     return h;
 }

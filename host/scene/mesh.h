@@ -70,7 +70,7 @@ inline constexpr int kDefaultMeshResolution = 64;  // cells along the longest si
 inline constexpr int kMaxMeshResolution = 1024;
 inline constexpr int kMeshPadding = 2;              // cells around the mesh's bounds
 inline constexpr int kMaxSparseMeshResolution = 2048;
-inline constexpr double kMeshBandCells = 8.0;        // a sparse grid is exact at least this far from the surface
+inline constexpr double kMeshBandCells = 4.0;        // a sparse grid is exact at least this far from the surface
 
 // A mesh as a scene uses it: its triangles, and the grid its edits sample. Shared by every edit (and
 // every copy of the scene) that names the same file at the same resolution. A level set read from a

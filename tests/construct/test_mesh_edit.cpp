@@ -6,13 +6,16 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "construct/brick_builder.h"
 #include "construct/mesh_pool.h"
 #include "core/errors.h"
 #include "core/rng.h"
+#include "exchange/host_bricks.h"
 #include "reference/field_eval.h"
+#include "reference/mesh_distance.h"
 #include "reference/reference_field.h"
 #include "scene/mesh.h"
 #include "scene/mesh_orient.h"
@@ -213,6 +216,91 @@ TEST(ConstructMeshEdit, InwardAndMixedWindingsGiveTheOutwardBricks) {
     construct::BrickBuilder builder(test::device());
     EXPECT_EQ(construct::output_digest(builder.build(turned.geometries[0], s, test::recorder()), s),
               construct::output_digest(builder.build(outward.geometries[0], s, test::recorder()), s));
+}
+
+// A sparse grid is the dense grid within its band of the surface (same bits), and beyond it a lower
+// bound of the distance with the right sign; it holds a fraction of the dense grid's values; and
+// builds over either give the same bricks.
+TEST(ConstructMeshEdit, SparseGridIsTheDenseOneNearTheSurfaceAndALowerBoundBeyond) {
+    const fs::path dir = test::temp_dir("mesh_sparse");
+    write_obj(torus_mesh(0.4, 0.15, 48, 24), dir / "ring.obj");
+    const auto scene_of = [&](const char* grid) {
+        return parse_scene(fmt::format(R"({{"geometries": [{{"name": "g", "edits": [
+            {{"primitive": "mesh", "file": "ring.obj", "resolution": 160, "grid": "{}"}},
+            {{"primitive": "sphere", "radius": 0.2, "position": [0.4, 0.1, 0], "blend": 0.05}}]}}]}})", grid),
+                           "s.json", dir);
+    };
+    const Scene sparse = scene_of("sparse"), dense = scene_of("dense");
+    const MeshSource& src = *sparse.geometries[0].edits[0].mesh;
+    ASSERT_TRUE(src.sparse);
+    EXPECT_FALSE(dense.geometries[0].edits[0].mesh->sparse);
+    EXPECT_NE(format_scene(dense).find("\"grid\": \"dense\""), std::string::npos);
+    EXPECT_EQ(format_scene(sparse).find("\"grid\""), std::string::npos);  // the default is not written
+    const std::vector<float> pool_s = construct::mesh_pool(sparse.geometries, test::device(), test::recorder());
+    const std::vector<float> pool_d = construct::mesh_pool(dense.geometries, test::device(), test::recorder());
+    EXPECT_LT(pool_s.size(), pool_d.size());
+
+    Geometry mesh_only = sparse.geometries[0], mesh_only_dense = dense.geometries[0];
+    mesh_only.edits.resize(1);
+    mesh_only_dense.edits.resize(1);
+    Rng rng(3);
+    std::vector<float> xyz;
+    for (int i = 0; i < 6000; ++i)  // within the grid's box (beyond it both grids add the distance to the box)
+        for (int a = 0; a < 3; ++a) xyz.push_back(float(rng.uniform(src.frame.origin[a], src.frame.hi()[a])));
+    reference::FieldEvaluator evaluator(test::device());
+    const std::vector<float> vs = evaluator.evaluate(to_device(mesh_only), xyz, pool_s).values;
+    const std::vector<float> vd = evaluator.evaluate(to_device(mesh_only_dense), xyz, pool_d).values;
+    std::size_t near = 0, far = 0, differ = 0, above = 0, sign = 0;
+    const double l = std::sqrt(3.0);
+    for (std::size_t i = 0; i < vs.size(); ++i) {
+        const glm::dvec3 p(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+        const double exact = reference::mesh_signed_distance(src.mesh, p);
+        if (std::abs(exact) <= src.band) {
+            ++near;
+            differ += vs[i] != vd[i];
+        } else if (vs[i] != vd[i]) {  // a tile far from the surface (the others hold the dense values)
+            ++far;
+            above += std::abs(double(vs[i])) * l > std::abs(exact) + 1e-5;
+            sign += (vs[i] < 0.0f) != (exact < 0.0);
+        }
+    }
+    EXPECT_GT(near, 500u);
+    EXPECT_GT(far, 500u);
+    EXPECT_EQ(differ, 0u) << "of " << near << " points within the band";
+    EXPECT_EQ(above, 0u) << "of " << far << " points beyond the band";
+    EXPECT_EQ(sign, 0u);
+
+    // Builds of the mesh alone: the sparse grid's lower bounds keep a few more leaves (nothing culls
+    // them), and every leaf of the dense build is there with the same samples wherever the field is
+    // within the band. (With other edits blended in, a value beyond the band may change theirs.)
+    construct::BrickBuilder builder(test::device());
+    for (const construct::BrickFormat format : {construct::BrickFormat::int8, construct::BrickFormat::float32}) {
+        construct::BuildSettings s = settings(0.0625);
+        s.format = format;
+        const exchange::HostBricks a(builder.build(mesh_only, s, test::recorder()), s);
+        const exchange::HostBricks b(builder.build(mesh_only_dense, s, test::recorder()), s);
+        EXPECT_GE(a.brick_count(), b.brick_count());
+        EXPECT_LE(a.brick_count(), b.brick_count() * 11 / 10);
+        std::size_t missing = 0, differ = 0, compared = 0;
+        const int n = b.samples();
+        for (std::size_t brick = 0; brick < b.brick_count(); ++brick) {
+            const auto match = a.find(b.coord(brick));
+            if (!match) {
+                ++missing;
+                continue;
+            }
+            for (int k = 0; k < n; ++k)
+                for (int j = 0; j < n; ++j)
+                    for (int i = 0; i < n; ++i) {
+                        if (std::abs(b.sample(brick, i, j, k)) * l >= src.band) continue;
+                        ++compared;
+                        differ += a.sample(*match, i, j, k) != b.sample(brick, i, j, k);
+                    }
+        }
+        EXPECT_EQ(missing, 0u) << to_string(format);
+        EXPECT_GT(compared, 100000u) << to_string(format);
+        EXPECT_EQ(differ, 0u) << to_string(format) << ": of " << compared;
+    }
 }
 
 // An open mesh has no inside: the scene is refused, naming the file, the place and the count.

@@ -65,5 +65,6 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
     out[n++] = SDF_OFF(mesh, offset);
     out[n++] = SDF_OFF(mesh, tiles);
     out[n++] = SDF_OFF(mesh, coarse);
+    out[n++] = SDF_OFF(mesh, centres);
     out[n++] = 0xC0FFEEu; /* end marker: the host checks it to know the list was not cut short */
 }

@@ -69,6 +69,7 @@ std::vector<cl_uint> host_layout() {
             offsetof(SdfMeshGrid, offset),
             offsetof(SdfMeshGrid, tiles),
             offsetof(SdfMeshGrid, coarse),
+            offsetof(SdfMeshGrid, centres),
             0xC0FFEEu};
 }
 
@@ -119,7 +120,7 @@ TEST(KernelsLayout, DeviceMatchesHost) {
                            "SdfShading.light_color", "SdfShading.shadow_spread", "SdfShading.ao_radius",
                            "SdfShading.ray_offset", "SdfShading.shadow_rays", "SdfShading.ao_rays", "sizeof SdfMeshGrid",
                            "SdfMeshGrid.cell", "SdfMeshGrid.inv_cell", "SdfMeshGrid.dims", "SdfMeshGrid.offset",
-                           "SdfMeshGrid.tiles", "SdfMeshGrid.coarse",
+                           "SdfMeshGrid.tiles", "SdfMeshGrid.coarse", "SdfMeshGrid.centres",
                            "end marker"};
     ASSERT_EQ(std::size(names), expected.size());
     for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(got[i], expected[i]) << names[i];
