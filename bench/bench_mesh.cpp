@@ -9,6 +9,8 @@
 // Device time is the kernel's (profiling events); host_ms (counter) is the rest of the call: the
 // triangle tree, the pseudo-normals, the uploads and the read-back. The label carries a digest of
 // the grid's values, equal across devices iff the grids are bit-identical. OpenVDB's time is wall time, narrow band (3 voxels) and full grid.
+// BM_MeshGridSparse converts the same cases to the sparse grid mesh edits use by default; the two
+// finest cases (512^3 cells) run sparse and OpenVDB's narrow band only.
 #include <chrono>
 #include <span>
 #include <string>
@@ -55,6 +57,11 @@ const std::vector<Case>& cases() {
             }
         c.push_back({"Table 1 teapot size: 2464 tris to 128x74x89", fit_to(torus_mesh(0.4, 0.15, 44, 28), {128, 74, 89}), 1.0, 0});
         c.push_back({"Table 1 dragon size: 100000 tris to 42x31x22", fit_to(torus_mesh(0.4, 0.15, 250, 200), {42, 31, 22}), 1.0, 0});
+        for (int res : {256, 512}) {  // fine grids: sparse and OpenVDB's narrow band only
+            TriangleMesh m = icosphere(0.5, 5);
+            const double cell = construct::cell_for_resolution(m, res);
+            c.push_back({fmt::format("sphere {} tris, {}^3 cells", m.triangles.size(), res), std::move(m), cell, 2});
+        }
         return c;
     }();
     return all;
@@ -79,6 +86,34 @@ void BM_MeshGridDevice(benchmark::State& state) {
                                Fnv1a64().add_values(std::span<const float>(grid.values)).hex()));
     state.counters["triangles"] = static_cast<double>(c.mesh.triangles.size());
     state.counters["points"] = static_cast<double>(grid.values.size());
+    state.counters["host_ms"] = host_ms;
+}
+
+// The sparse grid (the default of mesh edits): tile corners and centres, then the tiles within the
+// band (kMeshBandCells) of the surface; device time is the three kernels'.
+void BM_MeshGridSparse(benchmark::State& state) {
+    const Case& c = cases()[static_cast<std::size_t>(state.range(0))];
+    construct::MeshGridBuilder builder(device());
+    const GridFrame frame = grid_frame(c.mesh, c.cell, c.padding);
+    construct::SparseMeshGrid grid;
+    double host_ms = 0.0;
+    for (auto _ : state) {
+        measure::Scheduler scheduler(device());
+        const auto start = std::chrono::steady_clock::now();
+        grid = builder.build_sparse(c.mesh, frame, kMeshBandCells * frame.cell, scheduler);
+        const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        double kernels = 0.0;
+        for (const auto& launch : scheduler.resolve()) kernels += launch.device_ms;
+        state.SetIterationTime(kernels * 1e-3);
+        host_ms = wall - kernels;
+    }
+    state.SetLabel(fmt::format("{} ({}x{}x{}), digest {}", c.name, frame.dims.x, frame.dims.y, frame.dims.z,
+                               Fnv1a64().add_values(std::span<const float>(grid.values)).hex()));
+    state.counters["triangles"] = static_cast<double>(c.mesh.triangles.size());
+    state.counters["points"] = static_cast<double>(frame.points());
+    state.counters["values"] = static_cast<double>(grid.values.size());
+    state.counters["tiles_kept"] = static_cast<double>(grid.active);
+    state.counters["tiles"] = static_cast<double>(grid.table_size());
     state.counters["host_ms"] = host_ms;
 }
 
@@ -108,11 +143,14 @@ void BM_OpenVdbMeshToVolume(benchmark::State& state) {
 }
 BENCHMARK(BM_OpenVdbMeshToVolume)
     ->ArgsProduct({benchmark::CreateDenseRange(0, 7, 1), {0, 1}})
+    ->Args({8, 0})
+    ->Args({9, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 #endif
 
 BENCHMARK(BM_MeshGridDevice)->DenseRange(0, 7)->Unit(benchmark::kMillisecond)->UseManualTime();
+BENCHMARK(BM_MeshGridSparse)->DenseRange(0, 9)->Unit(benchmark::kMillisecond)->UseManualTime();
 
 }  // namespace
 }  // namespace sdfbrick::bench
