@@ -1,10 +1,12 @@
 """Devices and scenes: the lists and dicts the CLI prints, and its error messages."""
 import json
+import subprocess
+import sys
 
 import pytest
 
 import sdfbrick
-from conftest import DEVICE, SCENES, cli
+from conftest import DEVICE, ROOT, SCENES, cli
 
 
 def test_devices_have_the_fields_of_devices_json():
@@ -94,3 +96,14 @@ def test_scene_from_dict_takes_numpy_values(spheres):
     edit["position"] = np.array(edit["position"])
     edit["radius"] = np.float32(edit["radius"])
     assert sdfbrick.Scene.from_dict(d).to_dict() == spheres.to_dict()
+
+
+def test_a_mesh_wound_inward_is_turned_with_a_warning(tmp_path):
+    subprocess.run([sys.executable, str(ROOT / "tools" / "make_knot_mesh.py"), str(tmp_path / "knot.obj"),
+                    "--winding", "inward", "--u", "40", "--v", "8"], check=True)
+    (tmp_path / "s.json").write_text(json.dumps(
+        {"geometries": [{"name": "g", "edits": [{"primitive": "mesh", "file": "knot.obj", "resolution": 16}]}]}))
+    scene = sdfbrick.Scene.load(tmp_path / "s.json")
+    assert len(scene.warnings) == 1
+    assert "knot.obj" in scene.warnings[0] and "turned to face outward" in scene.warnings[0]
+    assert sdfbrick.Scene.load(SCENES / "knot.json").warnings == []
