@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,6 +30,9 @@ std::filesystem::path temp_dir(std::string_view name);
 
 // Writes text to path (replacing it), creating parent directories; throws on failure.
 void write_text(const std::filesystem::path& path, std::string_view text);
+
+// The message of the InputError `step` throws, or "" when it throws none.
+std::string input_error_of(const std::function<void()>& step);
 
 // Sets (or, with std::nullopt, unsets) an environment variable for the scope's lifetime, then
 // restores the previous state.

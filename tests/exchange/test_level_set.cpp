@@ -124,15 +124,6 @@ void round_trip(exchange::VdbFormat format, const char* file) {
 #if SDFBRICK_WITH_OPENVDB
 TEST(SceneLevelSet, OpenVdbExportComesBackAsEdits) { round_trip(exchange::VdbFormat::openvdb, "scene.vdb"); }
 
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(accepted)";
-}
-
 TEST(SceneLevelSet, GridsThatAreNotLevelSetsAreRefused) {
     openvdb::initialize();
     const fs::path dir = test::temp_dir("level_set_bad");
@@ -169,14 +160,14 @@ TEST(SceneLevelSet, GridsThatAreNotLevelSetsAreRefused) {
         {"empty", "no active voxel"},
     };
     for (const auto& [grid, expected] : cases) {
-        const std::string what = error_of([&] { read_level_set(dir / "many.vdb", grid); });
+        const std::string what = test::input_error_of([&] { read_level_set(dir / "many.vdb", grid); });
         EXPECT_NE(what.find("many.vdb"), std::string::npos) << grid << ": " << what;
         EXPECT_NE(what.find(expected), std::string::npos) << grid << ": " << what;
     }
-    EXPECT_NE(error_of([&] { read_level_set(dir / "junk.vdb", ""); }).find("junk.vdb: cannot read level sets"),
+    EXPECT_NE(test::input_error_of([&] { read_level_set(dir / "junk.vdb", ""); }).find("junk.vdb: cannot read level sets"),
               std::string::npos);
     // In a scene: the place, then the file and the grid.
-    const std::string what = error_of([&] {
+    const std::string what = test::input_error_of([&] {
         parse_scene(R"({"geometries": [{"name": "g", "edits": [{"primitive": "vdb", "file": "many.vdb", "grid": "fog"}]}]})",
                     "s.json", dir);
     });

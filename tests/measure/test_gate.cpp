@@ -8,6 +8,7 @@
 
 #include "core/errors.h"
 #include "measure/gate.h"
+#include "test_support.h"
 
 namespace sdfbrick {
 namespace {
@@ -67,16 +68,6 @@ const GateCheck* find(const GateVerdict& v, const std::string& figure) {
 }
 
 // The InputError's message of f(), or "" when it does not throw one.
-template <class F>
-std::string input_error(F f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
-
 TEST(MeasureGate, RulesParseAndDefaultExpands) {
     EXPECT_EQ(measure::gate_rules_text(measure::parse_gate_rules("default")), measure::kDefaultGateRules);
     const auto rules = measure::parse_gate_rules(" default , counters<=5% ,time?<=0.1");
@@ -99,7 +90,7 @@ TEST(MeasureGate, RulesParseAndDefaultExpands) {
         {"counters <= 1e999", "expected a number"},
     };
     for (const auto& [text, message] : bad) {
-        const std::string e = input_error([&] { measure::parse_gate_rules(text); });
+        const std::string e = test::input_error_of([&] { measure::parse_gate_rules(text); });
         EXPECT_NE(e.find(message), std::string::npos) << text << ": " << e;
     }
 }
@@ -120,14 +111,14 @@ TEST(MeasureGate, TheSameReportPasses) {
 TEST(MeasureGate, DifferentScenesOrSettingsAreRefusedUnlessAllowed) {
     json other = report();
     other["scene"]["name"] = "drops";
-    std::string e = input_error([&] { gate(report(), other); });
+    std::string e = test::input_error_of([&] { gate(report(), other); });
     EXPECT_NE(e.find("base.json and new.json: reports of different runs: scene/name spheres -> drops"), std::string::npos) << e;
     EXPECT_NE(e.find("--allow-different"), std::string::npos) << e;
     json coarse = report();
     coarse["settings"]["brick_size"] = 0.125;
-    e = input_error([&] { gate(report(), coarse); });
+    e = test::input_error_of([&] { gate(report(), coarse); });
     EXPECT_NE(e.find("settings/brick_size 0.0625 -> 0.125"), std::string::npos) << e;
-    e = input_error([&] { gate(report(), render_report()); });
+    e = test::input_error_of([&] { gate(report(), render_report()); });
     EXPECT_NE(e.find("command build -> render"), std::string::npos) << e;
 
     const GateVerdict allowed = gate(report(), coarse, "default", {false, true});
@@ -150,7 +141,7 @@ TEST(MeasureGate, DifferentScenesOrSettingsAreRefusedUnlessAllowed) {
 TEST(MeasureGate, AFigureARequiredRuleNeedsMustBeInBothReports) {
     json plain = render_report();
     plain.erase("accuracy");
-    std::string e = input_error([&] { gate(render_report(), plain, "mismatch"); });
+    std::string e = test::input_error_of([&] { gate(render_report(), plain, "mismatch"); });
     EXPECT_NE(e.find("new.json: /accuracy/mismatch_fraction: missing (rule mismatch needs it in both reports"),
               std::string::npos) << e;
     // Optional: skipped, and said so.
@@ -159,26 +150,26 @@ TEST(MeasureGate, AFigureARequiredRuleNeedsMustBeInBothReports) {
     ASSERT_EQ(v.checks.size(), 2u);
     EXPECT_EQ(v.checks[0].outcome, GateOutcome::skip);
     EXPECT_EQ(v.checks[0].note, "BASE and NEW: not there");
-    e = input_error([&] { gate(report(), report(), "time"); });
+    e = test::input_error_of([&] { gate(report(), report(), "time"); });
     EXPECT_NE(e.find("base.json: /captures/repeat: one capture (rule time needs repeats"), std::string::npos) << e;
     json bare = report();
     bare.erase("digest");
     bare["devices"][0].erase("digest");
-    e = input_error([&] { gate(report(), bare, "digest"); });
+    e = test::input_error_of([&] { gate(report(), bare, "digest"); });
     EXPECT_NE(e.find("new.json: /digest: missing"), std::string::npos) << e;
-    e = input_error([&] { gate(json::object(), report(), "counters", {false, true}); });
+    e = test::input_error_of([&] { gate(json::object(), report(), "counters", {false, true}); });
     EXPECT_NE(e.find("base.json: work counters"), std::string::npos) << e;
     // Not a report, or a figure of the wrong type: the place is named.
-    e = input_error([&] { gate(json::array(), report()); });
+    e = test::input_error_of([&] { gate(json::array(), report()); });
     EXPECT_NE(e.find("base.json: expected a JSON object"), std::string::npos) << e;
     json deep = report();
     json* at = &deep["settings"];
     for (int i = 0; i < 100000; ++i) at = &((*at)["x"] = json::object());
-    e = input_error([&] { gate(report(), deep); });
+    e = test::input_error_of([&] { gate(report(), deep); });
     EXPECT_NE(e.find("new.json: nested deeper than 64 levels"), std::string::npos) << e;
     json typed = report();
     typed["geometries"][0]["levels"][1]["bricks"] = "33";
-    e = input_error([&] { gate(report(), typed); });
+    e = test::input_error_of([&] { gate(report(), typed); });
     EXPECT_NE(e.find("new.json: /geometries/0/levels/1/bricks: expected a number"), std::string::npos) << e;
 }
 

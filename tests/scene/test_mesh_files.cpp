@@ -25,15 +25,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string error_of(const std::function<void()>& step) {
-    try {
-        step();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "no error";
-}
-
 std::string mesh_scene(const std::string& file) {
     return fmt::format(R"({{"geometries": [{{"name": "g", "edits": [{{"primitive": "mesh", "file": "{}", "resolution": 8}}]}}]}})",
                        file);
@@ -55,7 +46,7 @@ TEST(SceneMeshFiles, MeshPathsOutsideTheScenesFolderAreRefused) {
     const fs::path base = dir / "scene";
     for (const std::string& file : {std::string("../outside/m.obj"), (dir / "outside" / "m.obj").string(), std::string("link.obj"),
                                    std::string("inside/../../outside/m.obj"), std::string("/etc/passwd")}) {
-        const std::string what = error_of([&] { parse_scene(mesh_scene(file), "s.json", base); });
+        const std::string what = test::input_error_of([&] { parse_scene(mesh_scene(file), "s.json", base); });
         EXPECT_NE(what.find("s.json: /geometries/0/edits/0/file: "), std::string::npos) << file << ": " << what;
         EXPECT_NE(what.find("outside the scene's folder"), std::string::npos) << file << ": " << what;
     }
@@ -63,7 +54,7 @@ TEST(SceneMeshFiles, MeshPathsOutsideTheScenesFolderAreRefused) {
     const AllowedFolders allowed({dir / "outside"});
     EXPECT_EQ(parse_scene(mesh_scene("../outside/m.obj"), "s.json", base).geometries[0].edits.size(), 1u);
     EXPECT_EQ(parse_scene(mesh_scene("link.obj"), "s.json", base).geometries[0].edits.size(), 1u);
-    EXPECT_NE(error_of([&] { parse_scene(mesh_scene("/etc/passwd"), "s.json", base); }).find("outside"), std::string::npos);
+    EXPECT_NE(test::input_error_of([&] { parse_scene(mesh_scene("/etc/passwd"), "s.json", base); }).find("outside"), std::string::npos);
 }
 
 // A glTF with one triangle whose vertices lie in the buffer `uri` names.
@@ -88,12 +79,12 @@ TEST(SceneMeshFiles, GltfBuffersOutsideTheMeshFolderAreRefused) {
     EXPECT_EQ(load_mesh(dir / "mesh" / "good.gltf").triangles.size(), 1u);
     for (const std::string& uri : {std::string("../secret.bin"), (dir / "secret.bin").string(), std::string("file:///etc/passwd")}) {
         test::write_text(dir / "mesh" / "bad.gltf", gltf_triangle(uri));
-        const std::string what = error_of([&] { load_mesh(dir / "mesh" / "bad.gltf"); });
+        const std::string what = test::input_error_of([&] { load_mesh(dir / "mesh" / "bad.gltf"); });
         EXPECT_NE(what.find("bad.gltf: cannot read mesh"), std::string::npos) << uri << ": " << what;
         EXPECT_EQ(what.find("triangles"), std::string::npos) << uri << ": " << what;
     }
     test::write_text(dir / "mesh" / "bad.gltf", gltf_triangle("../secret.bin"));
-    EXPECT_NE(error_of([&] { load_mesh(dir / "mesh" / "bad.gltf"); }).find("outside the mesh's folder"), std::string::npos);
+    EXPECT_NE(test::input_error_of([&] { load_mesh(dir / "mesh" / "bad.gltf"); }).find("outside the mesh's folder"), std::string::npos);
 }
 
 TEST(SceneMeshFiles, AnObjMaterialLibraryThatIsAFifoIsRefusedWithoutBlocking) {
@@ -101,7 +92,7 @@ TEST(SceneMeshFiles, AnObjMaterialLibraryThatIsAFifoIsRefusedWithoutBlocking) {
     ASSERT_EQ(::mkfifo((dir / "m.mtl").c_str(), 0600), 0);
     test::write_text(dir / "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     const auto start = std::chrono::steady_clock::now();
-    const std::string what = error_of([&] { load_mesh(dir / "m.obj"); });
+    const std::string what = test::input_error_of([&] { load_mesh(dir / "m.obj"); });
     EXPECT_NE(what.find("a FIFO, not a regular file"), std::string::npos) << what;
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
 }
@@ -113,14 +104,14 @@ TEST(SceneMeshFiles, PlyCountsBeyondTheFilesSizeAreRefusedBeforeLoading) {
         "property float z\nelement face 2000000000\nproperty list uchar int vertex_indices\nend_header\n";
     test::write_text(dir / "huge.ply", header + std::string(64, '\0'));
     const auto start = std::chrono::steady_clock::now();
-    const std::string what = error_of([&] { load_mesh(dir / "huge.ply"); });
+    const std::string what = test::input_error_of([&] { load_mesh(dir / "huge.ply"); });
     EXPECT_NE(what.find("huge.ply: cannot read mesh: the binary PLY header declares vertex 2000000000, face 2000000000"),
               std::string::npos) << what;
     EXPECT_NE(what.find("but 64 bytes follow it"), std::string::npos) << what;
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
     // ASCII: two characters per property at least.
     test::write_text(dir / "ascii.ply", "ply\nformat ascii 1.0\nelement vertex 1000\nproperty float x\nend_header\n0\n1\n");
-    EXPECT_NE(error_of([&] { load_mesh(dir / "ascii.ply"); }).find("the ASCII PLY header declares vertex 1000"), std::string::npos);
+    EXPECT_NE(test::input_error_of([&] { load_mesh(dir / "ascii.ply"); }).find("the ASCII PLY header declares vertex 1000"), std::string::npos);
     // A PLY whose counts its body can hold is read as before.
     write_ply(icosphere(0.5, 1), dir / "fine.ply");
     EXPECT_EQ(load_mesh(dir / "fine.ply").triangles.size(), 80u);
@@ -137,7 +128,7 @@ TEST(SceneMeshFiles, FuzzRegressionsAreRefusedAndTheProgramLivesOn) {
         const char* extension = bytes[0] == 'p' ? ".ply" : bytes[0] == 'o' ? ".obj" : bytes[0] == 's' ? ".stl" : ".gltf";
         const fs::path file = dir / (entry.path().stem().string() + extension);
         test::write_text(file, bytes.substr(1));
-        const std::string what = error_of([&] { load_mesh(file, 3); });
+        const std::string what = test::input_error_of([&] { load_mesh(file, 3); });
         EXPECT_NE(what.find(file.string() + ": "), std::string::npos) << entry.path() << ": " << what;
         EXPECT_EQ(what.find('\n'), std::string::npos) << what;
         ++count;
