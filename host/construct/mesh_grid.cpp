@@ -201,7 +201,7 @@ SparseMeshGrid MeshGridBuilder::build_sparse(const TriangleMesh& mesh, const Gri
                                              measure::Scheduler& scheduler) {
     const Triangles tris = upload(mesh);
     SparseMeshGrid out;
-    out.tiles = (frame.dims - 1 + kMeshTile - 1) / kMeshTile;
+    out.tiles = sparse_tiles(frame);
     // The exact distances at the tile corners: the points 8 t of the same grid (cell times 8 is exact
     // in float, so these are the very points of the fine grid).
     GridFrame coarse = frame;

@@ -58,8 +58,10 @@ MeshBvh build_mesh_bvh(const TriangleMesh& mesh);
 // (tiles^3), the tiles' points.
 inline constexpr int kMeshTile = 8;
 inline constexpr std::size_t kMeshTilePoints = 9 * 9 * 9;
+// The tiles per axis of a sparse grid over `frame`: ceil(cells / kMeshTile).
+inline glm::ivec3 sparse_tiles(const GridFrame& frame) { return (frame.dims - 1 + kMeshTile - 1) / kMeshTile; }
 struct SparseMeshGrid {
-    glm::ivec3 tiles{0};  // per axis: ceil(cells / kMeshTile)
+    glm::ivec3 tiles{0};  // per axis: sparse_tiles(frame)
     std::size_t active = 0;
     std::vector<float> values;
     std::size_t table_size() const { return static_cast<std::size_t>(tiles.x) * tiles.y * tiles.z; }

@@ -32,9 +32,6 @@ const std::vector<float>& grid_values(MeshSource& source, std::optional<MeshGrid
     return source.values;
 }
 
-// The tiles per axis of a sparse grid over f.
-glm::ivec3 tiles_of(const GridFrame& f) { return (f.dims - 1 + kMeshTile - 1) / kMeshTile; }
-
 SdfMeshGrid header(const MeshSource& s, std::size_t offset) {
     const GridFrame& f = s.frame;
     SdfMeshGrid h{};
@@ -46,7 +43,7 @@ SdfMeshGrid header(const MeshSource& s, std::size_t offset) {
     h.inv_cell = static_cast<float>(1.0 / f.cell);
     h.offset = static_cast<sdf_u32>(offset);
     if (s.sparse) {
-        const glm::ivec3 t = tiles_of(f);
+        const glm::ivec3 t = sparse_tiles(f);
         h.tiles = static_cast<sdf_u32>(offset);
         const std::size_t table = static_cast<std::size_t>(t.x) * t.y * t.z;
         h.coarse = static_cast<sdf_u32>(offset + table);
@@ -82,8 +79,7 @@ std::vector<float> mesh_pool(std::span<const Geometry> geometries, ocl::Device& 
         std::memcpy(pool.data() + i * kHeaderFloats, &h, sizeof h);
         pool.insert(pool.end(), slots[i]->values.begin(), slots[i]->values.end());
         if (!slots[i]->sparse) continue;
-        const glm::ivec3 t = tiles_of(slots[i]->frame);  // the tile table: offsets within the grid -> within the pool
-        for (std::size_t e = base; e < base + static_cast<std::size_t>(t.x) * t.y * t.z; ++e) {
+        for (std::size_t e = h.tiles; e < h.coarse; ++e) {  // the tile table: offsets within the grid -> within the pool
             sdf_u32 entry = 0;
             std::memcpy(&entry, &pool[e], sizeof entry);
             if (entry != SDF_MESH_NO_TILE) entry += static_cast<sdf_u32>(base);

@@ -26,13 +26,12 @@ namespace {
 bool is_nanovdb(const std::filesystem::path& path) { return path.extension() == ".nvdb"; }
 
 // A level set as both libraries give it: its active index bounds, index -> world (world = origin +
-// i axis[0] + j axis[1] + k axis[2]), the band and the value at any index.
+// i axis[0] + j axis[1] + k axis[2]) and the value at any index.
 struct IndexGrid {
     std::string name;
     glm::dvec3 origin{0.0};
     std::array<glm::dvec3, 3> axis{};
     glm::ivec3 lo{0}, hi{-1};
-    float background = 0.0f;
     std::function<float(const glm::ivec3&)> at;
 };
 
@@ -79,14 +78,13 @@ LevelSetGrid to_dense(const IndexGrid& g) {
     if (glm::any(glm::lessThan(g.hi, g.lo))) throw InputError(fmt::format("grid {}: no active voxel", quoted_input(g.name)));
     LevelSetGrid out;
     out.grid = g.name;
-    out.voxel = uniform_voxel(g);
-    out.background = g.background;
+    const double voxel = uniform_voxel(g);
     const glm::ivec3 lo = g.lo - 1, hi = g.hi + 1;
     const auto world = [&](const glm::dvec3& u) { return g.origin + u.x * g.axis[0] + u.y * g.axis[1] + u.z * g.axis[2]; };
     const bool aligned = g.axis[0].y == 0.0 && g.axis[0].z == 0.0 && g.axis[1].x == 0.0 && g.axis[1].z == 0.0 &&
                          g.axis[2].x == 0.0 && g.axis[2].y == 0.0 && g.axis[0].x > 0.0;
     GridFrame& f = out.frame;
-    f.cell = static_cast<float>(out.voxel);
+    f.cell = static_cast<float>(voxel);
     if (aligned) {
         check_points(g, glm::dvec3(hi - lo));
         f.origin = glm::dvec3(glm::vec3(world(glm::dvec3(lo))));
@@ -94,14 +92,13 @@ LevelSetGrid to_dense(const IndexGrid& g) {
     } else {
         Aabb box;
         for (int c = 0; c < 8; ++c) box.grow(world(glm::dvec3(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)));
-        const glm::dvec3 cells = glm::ceil(box.extent() / out.voxel);
+        const glm::dvec3 cells = glm::ceil(box.extent() / voxel);
         check_points(g, cells);
         f.origin = glm::dvec3(glm::vec3(box.lo));
         f.dims = glm::ivec3(cells) + 1;
-        out.resampled = true;
     }
     // world -> index: the axes are orthogonal of length voxel, so the inverse is the transpose / voxel^2.
-    const double inv2 = 1.0 / (out.voxel * out.voxel);
+    const double inv2 = 1.0 / (voxel * voxel);
     out.values.resize(f.points());
     std::size_t n = 0;
     for (int k = 0; k < f.dims.z; ++k)
@@ -163,7 +160,6 @@ LevelSetGrid read_openvdb(const std::filesystem::path& path, const std::string& 
         g.lo = glm::ivec3(box.min().x(), box.min().y(), box.min().z());
         g.hi = glm::ivec3(box.max().x(), box.max().y(), box.max().z());
     }
-    g.background = grid->background();
     auto accessor = grid->getConstAccessor();
     g.at = [&](const glm::ivec3& c) { return accessor.getValue(openvdb::Coord(c.x, c.y, c.z)); };
     return to_dense(g);
@@ -198,7 +194,6 @@ LevelSetGrid read_nanovdb(const std::filesystem::path& path, const std::string& 
         g.lo = glm::ivec3(box.min()[0], box.min()[1], box.min()[2]);
         g.hi = glm::ivec3(box.max()[0], box.max()[1], box.max()[2]);
     }
-    g.background = grid->tree().background();
     auto accessor = grid->getAccessor();
     g.at = [&](const glm::ivec3& c) { return accessor.getValue(nanovdb::Coord(c.x, c.y, c.z)); };
     return to_dense(g);

@@ -22,9 +22,6 @@ struct LevelSetGrid {
     std::string grid;  // the grid's name in the file
     GridFrame frame;
     std::vector<float> values;  // frame.points(), i fastest
-    double voxel = 0.0;         // the file's voxel size
-    double background = 0.0;    // the file's band, world units
-    bool resampled = false;     // rotated voxel axes: values interpolated, not copied
 };
 
 // Whether this build reads .vdb (OpenVDB) and .nvdb (NanoVDB) files.
