@@ -61,6 +61,7 @@ public:
         if (status == CL_SUCCESS) {
             memory_ = MemObject(clCreateBuffer(device.context(), flags, allocated, nullptr, &status));
             capacity_ = allocated;
+            if (status == CL_SUCCESS) device.memory_pool()->count_allocation(allocated);
         }
         if (status != CL_SUCCESS) {
             throw ClError(status, fmt::format("allocating a buffer of {} bytes ({} elements of {} bytes) on {} "

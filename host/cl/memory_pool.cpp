@@ -45,4 +45,15 @@ std::size_t pooled_capacity(std::size_t bytes, std::size_t limit) {
     return rounded <= limit ? rounded : bytes;
 }
 
+void MemoryPool::count_allocation(std::size_t bytes) {
+    std::lock_guard lock(mutex_);
+    ++allocations_.count;
+    allocations_.bytes += bytes;
+}
+
+MemoryPool::Allocations MemoryPool::allocations() const {
+    std::lock_guard lock(mutex_);
+    return allocations_;
+}
+
 }  // namespace sdfbrick::ocl

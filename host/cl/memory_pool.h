@@ -8,6 +8,7 @@
 #include <CL/cl.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <mutex>
 #include <vector>
 
@@ -30,6 +31,14 @@ public:
     std::size_t kept_bytes() const;
     std::size_t reused() const { return reused_; }  // takes served from kept memory
 
+    // Every buffer allocated on the device (pooled or not) is counted here: a frame loop reports
+    // how many allocations each frame still made once capacities settled.
+    struct Allocations {
+        std::uint64_t count = 0, bytes = 0;
+    };
+    void count_allocation(std::size_t bytes);
+    Allocations allocations() const;
+
 private:
     struct Kept {
         MemObject memory;
@@ -39,6 +48,7 @@ private:
     mutable std::mutex mutex_;
     std::vector<Kept> kept_;
     std::size_t reused_ = 0;
+    Allocations allocations_;
 };
 
 // The capacity to allocate for a pooled request of `bytes`: rounded up (at most an eighth more) so

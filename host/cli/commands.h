@@ -74,6 +74,7 @@ void add_scene_commands(CLI::App& app, const GlobalOptions& global);
 void add_eval_command(CLI::App& app, const GlobalOptions& global);
 void add_build_command(CLI::App& app, const GlobalOptions& global);
 void add_render_command(CLI::App& app, const GlobalOptions& global);
+void add_play_command(CLI::App& app, const GlobalOptions& global);
 void add_sweep_commands(CLI::App& app, const GlobalOptions& global);  // sweep, merge
 void add_tune_command(CLI::App& app, const GlobalOptions& global);
 void add_export_commands(CLI::App& app, const GlobalOptions& global);  // export, sample

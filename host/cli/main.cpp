@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     cli::add_eval_command(app, global);
     cli::add_build_command(app, global);
     cli::add_render_command(app, global);
+    cli::add_play_command(app, global);
     cli::add_sweep_commands(app, global);
     cli::add_tune_command(app, global);
     cli::add_export_commands(app, global);

@@ -10,6 +10,8 @@
 
 #include <glm/glm.hpp>
 
+#include "core/stats.h"
+
 namespace sdfbrick::reference {
 
 namespace {
@@ -45,15 +47,6 @@ double angle_deg(const glm::dvec3& a, const glm::dvec3& b) {
     if (!(la > 0.0) || !(lb > 0.0) || !std::isfinite(la) || !std::isfinite(lb)) return 180.0;
     const glm::dvec3 na = a / la, nb = b / lb;
     return std::atan2(glm::length(glm::cross(na, nb)), glm::dot(na, nb)) * (180.0 / kPi);
-}
-
-// Nearest rank: v[ceil(p n / 100)] (1-based) of the sorted values, v[1] for rank 0; 0 when empty.
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const double rank = std::ceil(p / 100.0 * static_cast<double>(v.size()));
-    const std::size_t r = rank < 1.0 ? 1 : std::min(static_cast<std::size_t>(rank), v.size());
-    return v[r - 1];
 }
 
 double mean(const std::vector<double>& v) {

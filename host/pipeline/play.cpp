@@ -1,0 +1,308 @@
+#include "pipeline/play.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "core/errors.h"
+#include "core/stats.h"
+#include "pipeline/command_report.h"
+#include "pipeline/passes.h"
+#include "scene/to_device.h"
+
+namespace sdfbrick::pipeline {
+
+namespace {
+
+using detail::Clock;
+using detail::ms_since;
+using detail::timed;
+
+// A geometry with an animated edit changes every frame: all of it is rebuilt.
+bool animated(const Geometry& g) {
+    return std::any_of(g.edits.begin(), g.edits.end(), [](const Edit& e) { return e.animation.has_value(); });
+}
+
+ocl::MemoryPool::Allocations allocations(Executor& executor, std::size_t lanes) {
+    ocl::MemoryPool::Allocations t;
+    for (std::size_t i = 0; i < lanes; ++i) {
+        const ocl::MemoryPool::Allocations a = executor.device(i).memory_pool()->allocations();
+        t.count += a.count;
+        t.bytes += a.bytes;
+    }
+    return t;
+}
+
+// The frame's device time per stage group, from its launches (every lane's in a split).
+void add_stage_times(FrameRecord& f, const measure::Capture& capture) {
+    for (const measure::Launch& l : capture) {
+        f.device_ms += l.device_ms;
+        switch (l.stage) {
+            case measure::Stage::bvh:
+            case measure::Stage::tlas: f.bvh_ms += l.device_ms; break;
+            case measure::Stage::trace: f.trace_ms += l.device_ms; break;
+            case measure::Stage::shade: f.shade_ms += l.device_ms; break;
+            default: f.construct_ms += l.device_ms; break;
+        }
+    }
+}
+
+// One frame on a whole lane. A geometry without animation keeps its build from the frame before
+// (kept); the others are built again, their old memory given back first so that they take it.
+class WholeFrames {
+public:
+    WholeFrames(Lane& lane, const LaneSettings& settings, const PlaySpec& spec, const Scene& scene)
+        : lane_(lane), settings_(settings), spec_(spec) {
+        for (const Geometry& g : scene.geometries) animated_.push_back(animated(g));
+    }
+
+    void frame(const Scene& scene, FrameRecord& f, std::optional<render::TraceResult>& trace) {
+        measure::Scheduler scheduler(lane_.device());
+        render::SceneBricks bricks = timed(f.construct_wall_ms, [&] { return build(scene, scheduler, f); });
+        timed(f.bvh_wall_ms, [&] { render::prepare_tracing(lane_.bvh(), scene, bricks, scheduler); });
+        if (spec_.digests) {
+            const BrickDigests d = timed(f.digest_wall_ms, [&] { return brick_digests(bricks, lane_.digest()); });
+            f.brick_digest = d.bricks;
+            f.list_digest = d.lists;
+        }
+        const render::TraceSettings& t = settings_.trace;
+        const SdfCamera camera = make_camera(scene.camera, t.width, t.height);
+        trace = timed(f.trace_wall_ms, [&] {
+            return lane_.tracer().render(scene, bricks, camera, t, scheduler, {},
+                                         {static_cast<bool>(spec_.on_image), spec_.digests});
+        });
+        f.trace_digest = trace->digest;
+        f.bricks = bricks.bricks;
+        add_stage_times(f, scheduler.resolve());
+        kept_ = std::move(bricks);
+        lane_.device().memory_pool()->trim();
+    }
+
+private:
+    render::SceneBricks build(const Scene& scene, measure::Scheduler& scheduler, FrameRecord& f) {
+        std::vector<construct::GeometryBuild> old;
+        if (kept_) old = std::move(kept_->builds);
+        kept_.reset();  // the last frame's BVH and tracing arrays go back to the pool
+        render::SceneBricks out;
+        out.settings = settings_.build;
+        for (std::size_t g = 0; g < scene.geometries.size(); ++g) {
+            if (g < old.size() && !animated_[g]) {
+                out.builds.push_back(std::move(old[g]));
+            } else {
+                if (g < old.size()) old[g] = {};
+                out.builds.push_back(lane_.builder().build(scene.geometries[g], settings_.build, scheduler));
+                out.build_ms += out.builds.back().device_ms;
+                ++f.geometries_rebuilt;
+            }
+            out.bricks += out.builds.back().leaf_count;
+        }
+        return out;
+    }
+
+    Lane& lane_;
+    const LaneSettings& settings_;
+    const PlaySpec& spec_;
+    std::vector<bool> animated_;  // per geometry of the scene as read (scene_at drops the animation)
+    std::optional<render::SceneBricks> kept_;
+};
+
+// One frame split over the executor's devices: every geometry rebuilt (the split builds subtrees of
+// each geometry on every lane).
+void split_frame(Executor& executor, const Scene& scene, const std::vector<LaneRun>& lanes, const PlaySpec& spec,
+                 FrameRecord& f, std::optional<render::TraceResult>& trace) {
+    Job job;
+    job.work = Work::trace;
+    job.settings = [&lanes](const ocl::DeviceInfo& d) {
+        for (const LaneRun& l : lanes)
+            if (l.device.index == d.index) return l.settings;
+        throw std::logic_error("play: a device without settings");
+    };
+    job.brick_digests = spec.digests;
+    job.trace_digests = spec.digests;
+    job.image = static_cast<bool>(spec.on_image);
+    Execution e = executor.run(scene, job, Placement::split);
+    Run& run = e.job();
+    f.construct_wall_ms = run.construct_wall_ms.median;
+    f.bvh_wall_ms = run.bvh_wall_ms.median;
+    f.trace_wall_ms = run.trace_wall_ms.median;
+    f.digest_wall_ms = run.digest_wall_ms.median;
+    f.bricks = run.bricks.bricks;
+    f.geometries_rebuilt = scene.geometries.size();
+    f.brick_digest = run.brick_digest;
+    f.list_digest = run.list_digest;
+    f.trace_digest = run.trace_digest;
+    add_stage_times(f, run.captures.front());
+    trace = std::move(run.trace);
+}
+
+void check_spec(const PlaySpec& spec, Placement placement) {
+    if (spec.frames < 1 || spec.frames > kMaxFrames)
+        throw InputError(fmt::format("play: frames must lie in 1 .. {}, got {}", kMaxFrames, spec.frames));
+    if (!(spec.dt > 0.0) || !std::isfinite(spec.dt) || !std::isfinite(spec.from) || !std::isfinite(spec.budget_ms) ||
+        spec.budget_ms < 0.0)
+        throw InputError("play: the time step must be finite and > 0, the start time and budget finite");
+    if (placement == Placement::replicate) throw InputError("play runs whole or split, not replicate: a frame is one job");
+}
+
+}  // namespace
+
+PlayRun play(Executor& executor, const Scene& scene, const SettingsFor& settings, Placement placement,
+             const PlaySpec& spec) {
+    check_spec(spec, placement);
+    PlayRun out;
+    out.placement = placement;
+    out.budget_ms = spec.budget_ms > 0.0 ? spec.budget_ms : spec.dt * 1000.0;
+    const std::size_t n = placement == Placement::whole ? 1 : executor.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const ocl::DeviceInfo& d = executor.device(i).info();
+        out.lanes.push_back({d, settings(d), {}, {}});
+        out.setup_ms += executor.lane(i).prepare(Work::trace);
+    }
+    std::optional<WholeFrames> whole;
+    if (placement == Placement::whole) whole.emplace(executor.lane(0), out.lanes.front().settings, spec, scene);
+    for (int i = 0; i < spec.frames; ++i) {
+        FrameRecord f;
+        f.index = i;
+        f.time = spec.from + spec.dt * i;
+        const ocl::MemoryPool::Allocations before = allocations(executor, n);
+        const auto start = Clock::now();
+        const Scene at = scene_at(scene, f.time);
+        std::optional<render::TraceResult> trace;
+        if (whole)
+            whole->frame(at, f, trace);
+        else
+            split_frame(executor, at, out.lanes, spec, f, trace);
+        if (spec.on_image) timed(f.output_wall_ms, [&] { spec.on_image(i, std::move(*trace)); });
+        f.wall_ms = ms_since(start);
+        const ocl::MemoryPool::Allocations after = allocations(executor, n);
+        f.allocations = after.count - before.count;
+        f.allocated_bytes = after.bytes - before.bytes;
+        out.frames.push_back(std::move(f));
+        if (spec.progress) spec.progress(i + 1, spec.frames);
+    }
+    return out;
+}
+
+PlaySummary summarise(const PlayRun& run, std::size_t skip) {
+    PlaySummary s;
+    s.frames = run.frames.size();
+    s.skipped = std::min(skip, s.frames > 1 ? s.frames - 1 : std::size_t{0});
+    if (run.frames.empty()) return s;
+    s.first_ms = run.frames.front().wall_ms;
+    std::vector<double> wall, device;
+    for (std::size_t i = 0; i < run.frames.size(); ++i) {
+        const FrameRecord& f = run.frames[i];
+        if (f.allocations > 0) s.last_allocating_frame = f.index;
+        if (i < s.skipped) continue;
+        wall.push_back(f.wall_ms);
+        device.push_back(f.device_ms);
+        if (f.wall_ms > run.budget_ms) ++s.over_budget;
+        s.allocations += f.allocations;
+        s.allocated_bytes += f.allocated_bytes;
+    }
+    s.p50 = percentile(wall, 50.0);
+    s.p95 = percentile(wall, 95.0);
+    s.p99 = percentile(wall, 99.0);
+    s.max = *std::max_element(wall.begin(), wall.end());
+    s.mean = std::accumulate(wall.begin(), wall.end(), 0.0) / static_cast<double>(wall.size());
+    s.device_p50 = percentile(device, 50.0);
+    s.device_p99 = percentile(device, 99.0);
+    return s;
+}
+
+namespace {
+
+nlohmann::json to_json(const FrameRecord& f) {
+    nlohmann::json j{{"frame", f.index},
+                     {"time", f.time},
+                     {"wall_ms", f.wall_ms},
+                     {"device_ms",
+                      {{"construct", f.construct_ms},
+                       {"bvh", f.bvh_ms},
+                       {"trace", f.trace_ms},
+                       {"shade", f.shade_ms},
+                       {"total", f.device_ms}}},
+                     {"wall_breakdown_ms",
+                      {{"construct", f.construct_wall_ms},
+                       {"bvh", f.bvh_wall_ms},
+                       {"trace", f.trace_wall_ms},
+                       {"digests", f.digest_wall_ms},
+                       {"output", f.output_wall_ms}}},
+                     {"bricks", f.bricks},
+                     {"geometries_rebuilt", f.geometries_rebuilt},
+                     {"allocations", f.allocations},
+                     {"allocated_bytes", f.allocated_bytes}};
+    if (!f.trace_digest.empty()) {
+        j["digest"] = f.trace_digest;
+        j["brick_digest"] = f.brick_digest;
+        j["list_digest"] = f.list_digest;
+    }
+    return j;
+}
+
+nlohmann::json to_json(const PlaySummary& s, double budget_ms) {
+    return {{"frames", s.frames},
+            {"skipped", s.skipped},
+            {"budget_ms", budget_ms},
+            {"wall_ms", {{"p50", s.p50}, {"p95", s.p95}, {"p99", s.p99}, {"max", s.max}, {"mean", s.mean}}},
+            {"device_ms", {{"p50", s.device_p50}, {"p99", s.device_p99}}},
+            {"over_budget", s.over_budget},
+            {"first_frame_ms", s.first_ms},
+            {"last_allocating_frame", s.last_allocating_frame},
+            {"allocations", s.allocations},
+            {"allocated_bytes", s.allocated_bytes}};
+}
+
+}  // namespace
+
+nlohmann::json to_json(const PlayRequest& request, const PlayRun& run) {
+    nlohmann::json devices = nlohmann::json::array();
+    for (const LaneRun& l : run.lanes)
+        devices.push_back({{"name", l.device.name},
+                           {"index", l.device.index},
+                           {"settings", settings_json(l.settings.build)},
+                           {"tuning", l.settings.tuning}});
+    nlohmann::json frames = nlohmann::json::array();
+    for (const FrameRecord& f : run.frames) frames.push_back(to_json(f));
+    const render::TraceSettings& t = request.trace;
+    return {{"command", "play"},
+            {"file", request.file},
+            {"scene", request.scene},
+            {"placement", to_string(run.placement)},
+            {"mode", request.mode},
+            {"method", render::to_string(t.method)},
+            {"normals", render::to_string(t.normals)},
+            {"width", t.width},
+            {"height", t.height},
+            {"fps", request.fps > 0.0 ? nlohmann::json(request.fps) : nlohmann::json(nullptr)},
+            {"frames_out", request.out_pattern.empty() ? nlohmann::json(nullptr) : nlohmann::json(request.out_pattern)},
+            {"setup_ms", run.setup_ms},
+            {"devices", devices},
+            {"summary", to_json(summarise(run), run.budget_ms)},
+            {"frames", frames}};
+}
+
+std::string to_text(const PlayRequest& request, const PlayRun& run) {
+    const PlaySummary s = summarise(run);
+    std::string out = fmt::format("play {}: {} frames of {}x{} ({}, {} normals, mode {}), {} on", request.scene, s.frames,
+                                  request.trace.width, request.trace.height, render::to_string(request.trace.method),
+                                  render::to_string(request.trace.normals), request.mode, to_string(run.placement));
+    for (const LaneRun& l : run.lanes) out += " " + l.device.name;
+    out += fmt::format("\n  setup {:.1f} ms once; first frame {:.2f} ms\n", run.setup_ms, s.first_ms);
+    out += fmt::format("  frame wall (after the first {}): p50 {:.2f}  p95 {:.2f}  p99 {:.2f}  max {:.2f}  mean {:.2f} ms\n",
+                       s.skipped, s.p50, s.p95, s.p99, s.max, s.mean);
+    out += fmt::format("  frame device: p50 {:.2f}  p99 {:.2f} ms\n", s.device_p50, s.device_p99);
+    out += fmt::format("  budget {:.2f} ms: {} of {} frames over\n", run.budget_ms, s.over_budget, s.frames - s.skipped);
+    if (s.last_allocating_frame < 0)
+        out += "  device allocations: none\n";
+    else
+        out += fmt::format("  device allocations after the first frame: {} ({} bytes); the last in frame {}\n",
+                           s.allocations, s.allocated_bytes, s.last_allocating_frame);
+    if (!request.out_pattern.empty()) out += fmt::format("  frames written to {}\n", request.out_pattern);
+    return out;
+}
+
+}  // namespace sdfbrick::pipeline
