@@ -4,6 +4,7 @@
 // reports per-frame wall and device times and the run's percentiles (docs/frames.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -85,13 +86,15 @@ private:
     int width_ = -1;
 };
 
-// Writes the frames' pictures on its own thread, at most kDepth queued: the loop waits only when the
-// writer is that far behind. The first failure is rethrown by finish().
+// Writes the frames' pictures on writer threads (each picture encoded and written whole, flushed to
+// disk, as every output is), at most kDepth per thread queued: the loop waits only when the writers
+// are that far behind. The first failure is rethrown by finish().
 class FrameWriter {
 public:
-    static constexpr std::size_t kDepth = 4;
+    static constexpr std::size_t kDepth = 2;
     FrameWriter(std::string mode, FramePattern pattern) : mode_(std::move(mode)), pattern_(std::move(pattern)) {
-        thread_ = std::thread([this] { loop(); });
+        const unsigned n = std::clamp(std::thread::hardware_concurrency() / 2, 1u, 4u);
+        for (unsigned i = 0; i < n; ++i) threads_.emplace_back([this] { loop(); });
     }
     ~FrameWriter() { stop(); }
     FrameWriter(const FrameWriter&) = delete;
@@ -99,7 +102,7 @@ public:
 
     void push(int frame, render::TraceResult&& trace) {
         std::unique_lock lock(mutex_);
-        room_.wait(lock, [&] { return queue_.size() < kDepth || error_; });
+        room_.wait(lock, [&] { return queue_.size() < kDepth * threads_.size() || error_; });
         if (error_) return;
         queue_.push_back({frame, std::move(trace)});
         work_.notify_one();
@@ -119,8 +122,9 @@ private:
             std::lock_guard lock(mutex_);
             done_ = true;
         }
-        work_.notify_one();
-        if (thread_.joinable()) thread_.join();
+        work_.notify_all();
+        for (std::thread& t : threads_)
+            if (t.joinable()) t.join();
     }
     void loop() {
         for (;;) {
@@ -130,6 +134,7 @@ private:
             Item item = std::move(queue_.front());
             queue_.pop_front();
             lock.unlock();
+            room_.notify_one();
             try {
                 const std::filesystem::path path = pattern_.at(item.frame);
                 write_all({image_output(pipeline::mode_picture(mode_, item.trace.buffer, item.trace.colour, false), path)});
@@ -138,8 +143,8 @@ private:
                 if (!error_) error_ = std::current_exception();
                 queue_.clear();
                 lock.unlock();
+                room_.notify_all();
             }
-            room_.notify_one();
         }
     }
     std::string mode_;
@@ -149,7 +154,7 @@ private:
     std::deque<Item> queue_;
     bool done_ = false;
     std::exception_ptr error_;
-    std::thread thread_;
+    std::vector<std::thread> threads_;
 };
 
 pipeline::PlaySpec play_spec(const PlayOptions& o, double scene_time) {
