@@ -25,6 +25,7 @@
 #include "image/image.h"
 #include "pipeline/command_report.h"
 #include "pipeline/play.h"
+#include "scene/edit_log.h"
 #include "scene/scene_json.h"
 #include "scene/to_device.h"
 #include "tune/apply.h"
@@ -42,7 +43,8 @@ struct PlayOptions {
     std::string mode = "normals";
     std::string method = "sphere";
     std::string normals = "continuous";
-    std::optional<std::string> out, json;
+    std::optional<std::string> out, json, edits;
+    std::string work = "trace";
     bool digests = false;
     bool trace_group_given = false;
 };
@@ -168,6 +170,10 @@ pipeline::PlaySpec play_spec(const PlayOptions& o, double scene_time) {
     spec.from = o.from.value_or(scene_time);
     spec.dt = o.dt.value_or(1.0 / o.fps.value_or(60.0));
     spec.digests = o.digests;
+    if (o.work == "construct") spec.work = pipeline::Work::construct;
+    else if (o.work == "bvh") spec.work = pipeline::Work::bvh;
+    else if (o.work != "trace") throw InputError(fmt::format("--work must be construct, bvh or trace, got {}", quoted_input(o.work)));
+    if (o.out && spec.work != pipeline::Work::trace) throw InputError("--out needs --work trace: the pictures are the trace's");
     return spec;
 }
 
@@ -197,6 +203,14 @@ void run_play(PlayOptions o, const GlobalOptions& global) {
 
     const Scene scene = load_scene_warned(o.file);
     pipeline::PlaySpec spec = play_spec(o, scene.time);
+    std::optional<EditLog> log;
+    if (o.edits) {
+        log = load_edit_log(*o.edits, scene);
+        spec.edits = &*log;
+        if (!log->ops.empty() && log->ops.back().frame >= spec.frames)
+            throw InputError(fmt::format("{}:{}: /frame: frame {} is not played (--frames {})", *o.edits,
+                                         log->ops.back().line, log->ops.back().frame, spec.frames));
+    }
     check_frame_outputs(o, pattern);
     const std::unique_ptr<RunDevices> devices = open_run_devices(global);
     if (devices->placement == pipeline::Placement::replicate && devices->set.size() > 1)
@@ -225,8 +239,8 @@ void run_play(PlayOptions o, const GlobalOptions& global) {
         pipeline::play(devices->executor, scene, tune::settings_for(settings, o.trace, tuning.get(), given), placement, spec);
     if (writer) writer->finish();
 
-    const pipeline::PlayRequest request{o.file, scene.name, o.mode, o.trace, o.dt ? 0.0 : 1.0 / spec.dt,
-                                        o.out.value_or("")};
+    const pipeline::PlayRequest request{o.file,           scene.name, o.mode, o.trace, o.dt ? 0.0 : 1.0 / spec.dt,
+                                        o.out.value_or(""), o.edits.value_or(""), spec.work};
     if (o.json) write_all({text_output(*o.json, format_json(pipeline::to_json(request, run)))});
     std::fputs(pipeline::to_text(request, run).c_str(), stdout);
 }
@@ -251,6 +265,8 @@ void add_play_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--normals", o->normals, "central, tetra or continuous")->capture_default_str();
     cmd->add_option("--out", o->out, "write every frame's picture: a pattern with one frame field, e.g. frames/%04d.png");
     cmd->add_option("--json", o->json, "write the report (every frame and the summary) as JSON");
+    cmd->add_option("--edits", o->edits, "an edit log (JSON lines: append, remove or replace edits at given frames)");
+    cmd->add_option("--work", o->work, "how far each frame goes: construct, bvh or trace")->capture_default_str();
     cmd->add_flag("--digests", o->digests, "each frame's brick and image digests, computed on the device");
     auto* gx = cmd->add_option("--group-x", o->trace.group_x, "trace work-group width (default: tuned, else 16)");
     auto* gy = cmd->add_option("--group-y", o->trace.group_y, "trace work-group height (default: tuned, else 8)");

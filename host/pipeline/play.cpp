@@ -59,22 +59,27 @@ public:
         for (const Geometry& g : scene.geometries) animated_.push_back(animated(g));
     }
 
-    void frame(const Scene& scene, FrameRecord& f, std::optional<render::TraceResult>& trace) {
+    // touched[g]: an edit-log operation changed geometry g before this frame.
+    void frame(const Scene& scene, const std::vector<bool>& touched, FrameRecord& f,
+               std::optional<render::TraceResult>& trace) {
         measure::Scheduler scheduler(lane_.device());
-        render::SceneBricks bricks = timed(f.construct_wall_ms, [&] { return build(scene, scheduler, f); });
-        timed(f.bvh_wall_ms, [&] { render::prepare_tracing(lane_.bvh(), scene, bricks, scheduler); });
+        render::SceneBricks bricks = timed(f.construct_wall_ms, [&] { return build(scene, touched, scheduler, f); });
+        if (spec_.work != Work::construct)
+            timed(f.bvh_wall_ms, [&] { render::prepare_tracing(lane_.bvh(), scene, bricks, scheduler); });
         if (spec_.digests) {
             const BrickDigests d = timed(f.digest_wall_ms, [&] { return brick_digests(bricks, lane_.digest()); });
             f.brick_digest = d.bricks;
             f.list_digest = d.lists;
         }
-        const render::TraceSettings& t = settings_.trace;
-        const SdfCamera camera = make_camera(scene.camera, t.width, t.height);
-        trace = timed(f.trace_wall_ms, [&] {
-            return lane_.tracer().render(scene, bricks, camera, t, scheduler, {},
-                                         {static_cast<bool>(spec_.on_image), spec_.digests});
-        });
-        f.trace_digest = trace->digest;
+        if (spec_.work == Work::trace) {
+            const render::TraceSettings& t = settings_.trace;
+            const SdfCamera camera = make_camera(scene.camera, t.width, t.height);
+            trace = timed(f.trace_wall_ms, [&] {
+                return lane_.tracer().render(scene, bricks, camera, t, scheduler, {},
+                                             {static_cast<bool>(spec_.on_image), spec_.digests});
+            });
+            f.trace_digest = trace->digest;
+        }
         f.bricks = bricks.bricks;
         add_stage_times(f, scheduler.resolve());
         kept_ = std::move(bricks);
@@ -82,20 +87,22 @@ public:
     }
 
 private:
-    render::SceneBricks build(const Scene& scene, measure::Scheduler& scheduler, FrameRecord& f) {
+    render::SceneBricks build(const Scene& scene, const std::vector<bool>& touched, measure::Scheduler& scheduler,
+                              FrameRecord& f) {
         std::vector<construct::GeometryBuild> old;
         if (kept_) old = std::move(kept_->builds);
         kept_.reset();  // the last frame's BVH and tracing arrays go back to the pool
         render::SceneBricks out;
         out.settings = settings_.build;
         for (std::size_t g = 0; g < scene.geometries.size(); ++g) {
-            if (g < old.size() && !animated_[g]) {
+            if (g < old.size() && !animated_[g] && !touched[g]) {
                 out.builds.push_back(std::move(old[g]));
             } else {
                 if (g < old.size()) old[g] = {};
                 out.builds.push_back(lane_.builder().build(scene.geometries[g], settings_.build, scheduler));
                 out.build_ms += out.builds.back().device_ms;
                 ++f.geometries_rebuilt;
+                f.bricks_rebuilt += out.builds.back().leaf_count;
             }
             out.bricks += out.builds.back().leaf_count;
         }
@@ -114,7 +121,7 @@ private:
 void split_frame(Executor& executor, const Scene& scene, const std::vector<LaneRun>& lanes, const PlaySpec& spec,
                  FrameRecord& f, std::optional<render::TraceResult>& trace) {
     Job job;
-    job.work = Work::trace;
+    job.work = spec.work;
     job.settings = [&lanes](const ocl::DeviceInfo& d) {
         for (const LaneRun& l : lanes)
             if (l.device.index == d.index) return l.settings;
@@ -122,7 +129,7 @@ void split_frame(Executor& executor, const Scene& scene, const std::vector<LaneR
     };
     job.brick_digests = spec.digests;
     job.trace_digests = spec.digests;
-    job.image = static_cast<bool>(spec.on_image);
+    job.image = spec.work == Work::trace && spec.on_image;
     Execution e = executor.run(scene, job, Placement::split);
     Run& run = e.job();
     f.construct_wall_ms = run.construct_wall_ms.median;
@@ -131,6 +138,7 @@ void split_frame(Executor& executor, const Scene& scene, const std::vector<LaneR
     f.digest_wall_ms = run.digest_wall_ms.median;
     f.bricks = run.bricks.bricks;
     f.geometries_rebuilt = scene.geometries.size();
+    f.bricks_rebuilt = f.bricks;
     f.brick_digest = run.brick_digest;
     f.list_digest = run.list_digest;
     f.trace_digest = run.trace_digest;
@@ -145,6 +153,23 @@ void check_spec(const PlaySpec& spec, Placement placement) {
         spec.budget_ms < 0.0)
         throw InputError("play: the time step must be finite and > 0, the start time and budget finite");
     if (placement == Placement::replicate) throw InputError("play runs whole or split, not replicate: a frame is one job");
+    if (spec.on_image && spec.work != Work::trace) throw InputError("play: frames' pictures need the trace");
+    if (spec.edits && !spec.edits->ops.empty() && spec.edits->ops.back().frame >= spec.frames) {
+        const EditOp& last = spec.edits->ops.back();
+        throw InputError(fmt::format("{}:{}: /frame: frame {} is not played ({} frames, from 0)", spec.edits->origin,
+                                     last.line, last.frame, spec.frames));
+    }
+}
+
+// Applies the log's operations of frame i to scene; marks the geometries they change.
+std::size_t apply_operations(const EditLog* log, std::size_t& next, int frame, Scene& scene, std::vector<bool>& touched) {
+    std::fill(touched.begin(), touched.end(), false);
+    std::size_t applied = 0;
+    for (; log && next < log->ops.size() && log->ops[next].frame == frame; ++next, ++applied) {
+        apply(scene, log->ops[next]);
+        touched[log->ops[next].geometry] = true;
+    }
+    return applied;
 }
 
 }  // namespace
@@ -163,19 +188,23 @@ PlayRun play(Executor& executor, const Scene& scene, const SettingsFor& settings
     }
     std::optional<WholeFrames> whole;
     if (placement == Placement::whole) whole.emplace(executor.lane(0), out.lanes.front().settings, spec, scene);
+    Scene current = scene;  // with the edit log's operations so far
+    std::vector<bool> touched(scene.geometries.size(), false);
+    std::size_t next_op = 0;
     for (int i = 0; i < spec.frames; ++i) {
         FrameRecord f;
         f.index = i;
         f.time = spec.from + spec.dt * i;
         const ocl::MemoryPool::Allocations before = allocations(executor, n);
         const auto start = Clock::now();
-        const Scene at = scene_at(scene, f.time);
+        f.operations = apply_operations(spec.edits, next_op, i, current, touched);
+        const Scene at = scene_at(current, f.time);
         std::optional<render::TraceResult> trace;
         if (whole)
-            whole->frame(at, f, trace);
+            whole->frame(at, touched, f, trace);
         else
             split_frame(executor, at, out.lanes, spec, f, trace);
-        if (spec.on_image) timed(f.output_wall_ms, [&] { spec.on_image(i, std::move(*trace)); });
+        if (spec.on_image && trace) timed(f.output_wall_ms, [&] { spec.on_image(i, std::move(*trace)); });
         f.wall_ms = ms_since(start);
         const ocl::MemoryPool::Allocations after = allocations(executor, n);
         f.allocations = after.count - before.count;
@@ -192,13 +221,17 @@ PlaySummary summarise(const PlayRun& run, std::size_t skip) {
     s.skipped = std::min(skip, s.frames > 1 ? s.frames - 1 : std::size_t{0});
     if (run.frames.empty()) return s;
     s.first_ms = run.frames.front().wall_ms;
-    std::vector<double> wall, device;
+    std::vector<double> wall, device, edit_wall, edit_device;
     for (std::size_t i = 0; i < run.frames.size(); ++i) {
         const FrameRecord& f = run.frames[i];
         if (f.allocations > 0) s.last_allocating_frame = f.index;
         if (i < s.skipped) continue;
         wall.push_back(f.wall_ms);
         device.push_back(f.device_ms);
+        if (f.operations > 0) {
+            edit_wall.push_back(f.wall_ms);
+            edit_device.push_back(f.device_ms);
+        }
         if (f.wall_ms > run.budget_ms) ++s.over_budget;
         s.allocations += f.allocations;
         s.allocated_bytes += f.allocated_bytes;
@@ -210,10 +243,19 @@ PlaySummary summarise(const PlayRun& run, std::size_t skip) {
     s.mean = std::accumulate(wall.begin(), wall.end(), 0.0) / static_cast<double>(wall.size());
     s.device_p50 = percentile(device, 50.0);
     s.device_p99 = percentile(device, 99.0);
+    s.edit_frames = edit_wall.size();
+    s.edit_p50 = percentile(edit_wall, 50.0);
+    s.edit_p99 = percentile(edit_wall, 99.0);
+    s.edit_device_p50 = percentile(edit_device, 50.0);
+    s.edit_device_p99 = percentile(edit_device, 99.0);
     return s;
 }
 
 namespace {
+
+std::string_view work_name(Work w) {
+    return w == Work::construct ? "construct" : w == Work::bvh ? "bvh" : "trace";
+}
 
 nlohmann::json to_json(const FrameRecord& f) {
     nlohmann::json j{{"frame", f.index},
@@ -233,10 +275,12 @@ nlohmann::json to_json(const FrameRecord& f) {
                        {"output", f.output_wall_ms}}},
                      {"bricks", f.bricks},
                      {"geometries_rebuilt", f.geometries_rebuilt},
+                     {"bricks_rebuilt", f.bricks_rebuilt},
+                     {"operations", f.operations},
                      {"allocations", f.allocations},
                      {"allocated_bytes", f.allocated_bytes}};
-    if (!f.trace_digest.empty()) {
-        j["digest"] = f.trace_digest;
+    if (!f.trace_digest.empty()) j["digest"] = f.trace_digest;
+    if (!f.brick_digest.empty()) {
         j["brick_digest"] = f.brick_digest;
         j["list_digest"] = f.list_digest;
     }
@@ -253,7 +297,11 @@ nlohmann::json to_json(const PlaySummary& s, double budget_ms) {
             {"first_frame_ms", s.first_ms},
             {"last_allocating_frame", s.last_allocating_frame},
             {"allocations", s.allocations},
-            {"allocated_bytes", s.allocated_bytes}};
+            {"allocated_bytes", s.allocated_bytes},
+            {"edit_frames",
+             {{"frames", s.edit_frames},
+              {"wall_ms", {{"p50", s.edit_p50}, {"p99", s.edit_p99}}},
+              {"device_ms", {{"p50", s.edit_device_p50}, {"p99", s.edit_device_p99}}}}}};
 }
 
 }  // namespace
@@ -279,6 +327,8 @@ nlohmann::json to_json(const PlayRequest& request, const PlayRun& run) {
             {"height", t.height},
             {"fps", request.fps > 0.0 ? nlohmann::json(request.fps) : nlohmann::json(nullptr)},
             {"frames_out", request.out_pattern.empty() ? nlohmann::json(nullptr) : nlohmann::json(request.out_pattern)},
+            {"edits", request.edits.empty() ? nlohmann::json(nullptr) : nlohmann::json(request.edits)},
+            {"work", work_name(request.work)},
             {"setup_ms", run.setup_ms},
             {"devices", devices},
             {"summary", to_json(summarise(run), run.budget_ms)},
@@ -301,6 +351,10 @@ std::string to_text(const PlayRequest& request, const PlayRun& run) {
     else
         out += fmt::format("  device allocations after the first frame: {} ({} bytes); the last in frame {}\n",
                            s.allocations, s.allocated_bytes, s.last_allocating_frame);
+    if (s.edit_frames > 0)
+        out += fmt::format("  {} frames applied edit-log operations: wall p50 {:.2f}  p99 {:.2f} ms, device p50 {:.2f}  "
+                           "p99 {:.2f} ms\n",
+                           s.edit_frames, s.edit_p50, s.edit_p99, s.edit_device_p50, s.edit_device_p99);
     if (!request.out_pattern.empty()) out += fmt::format("  frames written to {}\n", request.out_pattern);
     return out;
 }

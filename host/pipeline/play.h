@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/executor.h"
+#include "scene/edit_log.h"
 
 namespace sdfbrick::pipeline {
 
@@ -27,7 +28,11 @@ struct PlaySpec {
     double dt = 1.0 / 60.0;  // time from one frame to the next (> 0)
     double budget_ms = 0.0;  // a frame's wall budget; 0: dt
     bool digests = false;    // each frame's brick and image digests, computed on the device
-    // Called on the loop's thread with each frame's trace (its image read back) when set; its time
+    Work work = Work::trace;  // how far a frame goes: construction, + BVH, + trace
+    // Operations applied before the frames they name (parsed against the scene); a geometry they
+    // change is rebuilt in that frame. Every operation's frame must be below `frames`.
+    const EditLog* edits = nullptr;
+    // With Work::trace: called on the loop's thread with each frame's trace (its image read back) when set; its time
     // counts in the frame's wall time as output. The CLI queues the picture for a writer thread.
     std::function<void(int frame, render::TraceResult&& trace)> on_image;
     std::function<void(int done, int total)> progress;  // after each frame
@@ -45,6 +50,8 @@ struct FrameRecord {
            output_wall_ms = 0.0;
     std::uint64_t bricks = 0;
     std::size_t geometries_rebuilt = 0;
+    std::uint64_t bricks_rebuilt = 0;  // the leaves of the geometries rebuilt
+    std::size_t operations = 0;        // edit-log operations applied before the frame
     // Device buffers allocated during the frame (on every lane): none once capacities settle, apart
     // from what the stages allocate each time (docs/frames.md says which).
     std::uint64_t allocations = 0, allocated_bytes = 0;
@@ -72,6 +79,9 @@ struct PlaySummary {
     double device_p50 = 0.0, device_p99 = 0.0;                      // frame device time, ms
     std::size_t over_budget = 0;                                    // frames whose wall exceeded the budget
     double first_ms = 0.0;                                          // the first frame's wall
+    // The frames (after the skipped ones) that applied edit-log operations: their wall and device time.
+    std::size_t edit_frames = 0;
+    double edit_p50 = 0.0, edit_p99 = 0.0, edit_device_p50 = 0.0, edit_device_p99 = 0.0;
     // The last frame that allocated device memory (-1: none did), and what the frames after the
     // skipped ones allocated in all.
     int last_allocating_frame = -1;
@@ -86,6 +96,8 @@ struct PlayRequest {
     render::TraceSettings trace;
     double fps = 0.0;  // 0 when the step was given as dt
     std::string out_pattern;  // "" when no frames were written
+    std::string edits;        // the edit log's file ("" when none)
+    Work work = Work::trace;
 };
 
 // {"command": "play", "file", "scene", "placement", "devices": [{name, settings}], "frames": [...],

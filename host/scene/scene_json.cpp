@@ -581,6 +581,16 @@ void allow_mesh_folders(std::vector<std::filesystem::path> folders) {
     allowed_folders = std::move(folders);
 }
 
+Edit edit_from_json(const json& j, std::string_view origin, std::string_view path) {
+    const std::string shown = escaped(origin, kPathEchoLimit);  // the node keeps a view of it
+    const Node n(j, std::string(path), shown);
+    if (!n.value().is_object()) n.fail("expected an edit object");
+    if (names_level_set(n) || (n.has("primitive") && n["primitive"].value() == "mesh"))
+        n.fail("a mesh or level-set edit cannot be added here: give it in the scene file");
+    MeshCatalog none;
+    return read_edit(n, none);
+}
+
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base) {
     return read_scene(parse_json_text(text, origin), escaped(origin, kPathEchoLimit), base);
 }

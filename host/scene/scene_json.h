@@ -32,6 +32,10 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
 // after origin.
 Scene scene_from_json(const nlohmann::json& j, std::string_view origin, const std::filesystem::path& base = {});
 
+// One edit object as a scene file's geometries hold it (not a mesh or level set), with the scene's
+// checks; errors name origin and the JSON path below `path` ("log.jsonl:3: /edit/radius: ...").
+Edit edit_from_json(const nlohmann::json& j, std::string_view origin, std::string_view path);
+
 // Folders outside a scene's own folder whose mesh files every later scene read may use (replaces
 // the earlier list; the CLI's --allow-outside).
 void allow_mesh_folders(std::vector<std::filesystem::path> folders);

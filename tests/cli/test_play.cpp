@@ -96,12 +96,22 @@ TEST(CliPlay, BadInputIsOneLineAndWritesNothing) {
     const auto dir = temp_dir("cli_play_bad");
     const auto scene = mixed_scene(dir).string();
     const auto json = (dir / "r.json").string();
+    write_text(dir / "log.jsonl", "{\"frame\": 0, \"op\": \"remove\", \"geometry\": \"drops\", \"index\": 0}\n"
+                                  "{\"frame\": 1, \"op\": \"remove\", \"geometry\": \"drops\", \"index\": 9}\n");
+    const std::string log = (dir / "log.jsonl").string();
+    write_text(dir / "late.jsonl", "{\"frame\": 3, \"op\": \"remove\", \"geometry\": \"drops\", \"index\": 0}\n");
+    const std::string late = (dir / "late.jsonl").string();
     const std::pair<std::string, std::string> cases[] = {
+        {"--edits " + log, "log.jsonl:2: /index: no edit 9 in geometry \"drops\" (it has 2 there)"},
+        {"--edits " + (dir / "none.jsonl").string(), "none.jsonl"},
+        {"--work all", "--work must be construct, bvh or trace"},
+        {"--work bvh --out " + (dir / "f%d.ppm").string(), "--out needs --work trace"},
         {"--fps 0", "--fps must be > 0"},
         {"--dt -1", "--dt must be > 0"},
         {"--fps 30 --dt 0.1", "exclude each other"},
         {"--frames 0", "--frames must lie in 1 .. 100000"},
         {"--frames 100001", "--frames must lie in 1 .. 100000"},
+        {"--edits " + late, "late.jsonl:1: /frame: frame 3 is not played (--frames 2)"},
         {"--out " + (dir / "frame.ppm").string(), "one frame field"},
         {"--out " + (dir / "f%d-%d.ppm").string(), "one frame field"},
         {"--out " + (dir / "f%x.ppm").string(), "one frame field"},
