@@ -111,6 +111,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
     levels.start();
     const bool complete = levels.run();
     out.leaf_count = adaptive ? adaptive->assemble(levels) : complete ? levels.parent_count() : 0;
+    out.leaves_built = out.leaf_count;
     const ocl::Buffer<SdfBrick>& leaves = adaptive ? adaptive->merged() : *levels.level_bricks().back();
     detail::LeafEvaluation evaluation(in);
     evaluation.evaluate(leaves, levels.lists(), out.leaf_count, levels.bytes);

@@ -126,6 +126,7 @@ struct GeometryBuildInfo {
     std::size_t first_launch = 0, end_launch = 0;
     double device_ms = 0.0;  // all launches
     double host_ms = 0.0;    // wall time of build(), including read-backs
+    std::uint64_t leaves_built = 0;  // leaves evaluated: leaf_count, or a rebuild's leaves built again
 
     // Adaptive builds: the check's worst error over the leaves (geometry units), and its 99th
     // percentile over the leaves (each leaf's worst check point); 0 for uniform builds (unchecked).
@@ -163,6 +164,15 @@ struct Subtrees {
     }
 };
 
+// What changed in a geometry since an earlier build of it (an edit log's operations): the edits that
+// left or changed, as they were (before), the edits that came or changed, as they are (after), and
+// the old indices of the edits that left (ascending). Every other edit kept its value and its order
+// among the others.
+struct EditChange {
+    std::vector<Edit> before, after;
+    std::vector<std::uint32_t> removed;
+};
+
 class BrickBuilder {
 public:
     explicit BrickBuilder(ocl::Device& device);
@@ -175,6 +185,17 @@ public:
     // With subtrees, only the descendants of the range it picks are built.
     GeometryBuild build(const Geometry& g, const BuildSettings& settings, measure::Scheduler& scheduler,
                         const Subtrees* subtrees = nullptr);
+
+    // The build of g after change, from `before` (this builder's build of the geometry before the
+    // change, with the same settings) and `records` (before's leaf records, read back): only the
+    // subtrees the changed edits can reach are built again, the other leaves are copied, and the
+    // result equals build(g, settings) bit for bit (leaves, pool, lists; docs/frames.md). records
+    // becomes the result's. Returns nothing when the change cannot be confined and the caller must
+    // build in full: adaptive, dependency, unculled or apron-sharing builds; an intersect or mesh
+    // edit among the changed ones; a domain, band or saturation that the change moved.
+    std::optional<GeometryBuild> rebuild(const Geometry& g, const BuildSettings& settings, const GeometryBuild& before,
+                                         std::vector<SdfBrick>& records, const EditChange& change,
+                                         measure::Scheduler& scheduler);
 
 private:
     ocl::Device& device_;

@@ -10,10 +10,11 @@
 
 namespace sdfbrick::construct::detail {
 
-Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive)
+Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive, const Region* region)
     : in_(in),
       subtrees_(subtrees),
       adaptive_(adaptive),
+      region_(region),
       counts_(in.device, 0),
       offsets_(in.device, 0),
       words_(in.device, 0),
@@ -49,6 +50,7 @@ bool Levels::run() {
             children = keep_subtrees(children);
             subtrees_ = nullptr;
         }
+        if (region_ && level < in_.plan.finest()) children = keep_region(level, children);
         bytes.scratch =
             std::max<std::uint64_t>(bytes.scratch, counts_.bytes() + offsets_.bytes() + words_.bytes() + bits_.bytes() +
                                                        sources_.bytes() + kept_words_.bytes());
@@ -246,6 +248,16 @@ std::uint64_t Levels::keep_subtrees(std::uint64_t children) {
     parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(in_.device,
                                                        std::span<const SdfBrick>(records).subspan(first, end - first));
     return end - first;
+}
+
+// Keeps the bricks of this level that the region goes on with; their lists stay where they are.
+std::uint64_t Levels::keep_region(int level, std::uint64_t children) {
+    if (children == 0) return 0;
+    const std::vector<SdfBrick> records = parents_->read();
+    std::vector<SdfBrick> kept;
+    for (std::uint32_t i : region_->keep(level, records)) kept.push_back(records.at(i));
+    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(in_.device, std::span<const SdfBrick>(kept));
+    return kept.size();
 }
 
 ocl::Buffer<cl_uint>& Levels::offsets(std::size_t n, std::string_view what) {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -73,6 +74,11 @@ struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
     ocl::Kernel count_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
+    struct Splice {  // brick_splice.cl, built on first use (rebuilds)
+        ocl::Program program;
+        ocl::Kernel counts, leaves;
+    };
+    std::unique_ptr<Splice> splice;
     struct Stats {  // brick_stats.cl for one brick layout
         ocl::Program program;
         ocl::Kernel level, leaf;
@@ -174,13 +180,20 @@ struct BuildInputs {
 
 class AdaptiveLeaves;
 
+// A rebuild's confinement of the levels (construct/build_splice.cpp): after each level's cull but the
+// finest's, which of the level's bricks the levels go on with (indices, ascending); the subtrees of
+// the others are the earlier build's, or empty.
+struct Region {
+    std::function<std::vector<std::uint32_t>(int level, const std::vector<SdfBrick>& records)> keep;
+};
+
 // Levels 0 .. levels-1 top-down: count -> scan -> subdivide -> cull, from the root's list (every
 // edit) to the leaves' lists; in a split, from the range of the split level's bricks it keeps.
 // Owns the current level's parents and lists, every level's records, and the scratch reused across
 // levels.
 class Levels {
 public:
-    Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive);
+    Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive, const Region* region = nullptr);
     // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
     void start();
     // Runs the levels; stops early when a level keeps nothing. Returns whether the last level was
@@ -223,6 +236,7 @@ private:
     void cull(int level, std::uint64_t children);
     void cull_lists(int level, std::uint64_t children);
     std::uint64_t keep_subtrees(std::uint64_t children);
+    std::uint64_t keep_region(int level, std::uint64_t children);
     std::uint64_t resident_items(std::size_t work_group_limit) const;
     std::uint64_t bits_per_item(std::uint64_t words, cl_kernel kernel, std::string_view name) const;
     cl_uint level_log2b(int level) const { return level == 0 ? 0u : in_.plan.log2b; }
@@ -231,6 +245,7 @@ private:
     BuildInputs& in_;
     const Subtrees* subtrees_;  // until applied
     AdaptiveLeaves* adaptive_;  // null for uniform builds
+    const Region* region_;      // a rebuild's; null for whole builds
     std::optional<EditDependencies> deps_;
     SdfBrick pseudo_{};  // level -1: one parent whose single child (branching 1) is the root
     std::unique_ptr<ocl::Buffer<SdfBrick>> parents_;  // the current level's parents, then its bricks

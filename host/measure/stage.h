@@ -29,13 +29,14 @@ enum class Stage {
     eval,          // field evaluation at points
     peaks,         // the bandwidth and FMA kernels of devices --peaks
     mesh,          // a mesh's signed distance grid (kernels/mesh_sdf.cl)
+    splice,        // construction, a rebuild after an edit change: kept and rebuilt leaves merged
 };
 
 inline constexpr std::array kAllStages = {Stage::edit_bounds, Stage::dependencies, Stage::count, Stage::scan,
                                           Stage::subdivide,   Stage::cull,         Stage::check,    Stage::order,
                                           Stage::evaluate,    Stage::apron,        Stage::aabb,
                                           Stage::bvh,         Stage::tlas,         Stage::trace, Stage::shade,
-                                          Stage::reference,   Stage::eval,         Stage::peaks, Stage::mesh};
+                                          Stage::reference,   Stage::eval,         Stage::peaks, Stage::mesh, Stage::splice};
 // The stages of construction, in the order a build runs them.
 inline constexpr std::array kConstructionStages = {Stage::edit_bounds, Stage::dependencies, Stage::count,
                                                    Stage::scan,        Stage::subdivide,    Stage::cull,
@@ -63,6 +64,7 @@ constexpr std::string_view to_string(Stage s) {
         case Stage::eval: return "eval";
         case Stage::peaks: return "peaks";
         case Stage::mesh: return "mesh";
+        case Stage::splice: return "splice";
     }
     return "?";
 }

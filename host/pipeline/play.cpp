@@ -1,6 +1,7 @@
 #include "pipeline/play.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -50,6 +51,73 @@ void add_stage_times(FrameRecord& f, const measure::Capture& capture) {
     }
 }
 
+// The edit log's operations of one frame, applied to the scene in order, and per geometry what they
+// changed (construct::EditChange: the edits that left or changed, as they were; those that came or
+// changed, as they are; the old slots that went).
+class FrameEdits {
+public:
+    FrameEdits(const EditLog* log, std::size_t geometries) : log_(log), touched(geometries), changes(geometries) {}
+    // Returns the operations applied.
+    std::size_t apply(int frame, Scene& scene) {
+        std::fill(touched.begin(), touched.end(), false);
+        for (construct::EditChange& c : changes) c = {};
+        std::map<std::size_t, Slots> slots;
+        std::size_t applied = 0;
+        for (; log_ && next_ < log_->ops.size() && log_->ops[next_].frame == frame; ++next_, ++applied) {
+            const EditOp& op = log_->ops[next_];
+            const std::vector<Edit>& edits = scene.geometries[op.geometry].edits;
+            const auto [it, first] = slots.try_emplace(op.geometry);
+            Slots& t = it->second;
+            if (first) {
+                t.original = edits.size();
+                t.slot.resize(edits.size());
+                std::iota(t.slot.begin(), t.slot.end(), std::int64_t{0});
+                t.unchanged.assign(edits.size(), 1);
+            }
+            touched[op.geometry] = true;
+            note(op, edits, t, changes[op.geometry]);
+            sdfbrick::apply(scene, op);
+        }
+        for (auto& [g, t] : slots) finish(t, scene.geometries[g].edits, changes[g]);
+        return applied;
+    }
+    std::vector<bool> touched;
+    std::vector<construct::EditChange> changes;
+
+private:
+    struct Slots {  // per edit of the list now: its old slot (-1: appended), and whether it is unchanged
+        std::size_t original = 0;  // the list's length before the frame's operations
+        std::vector<std::int64_t> slot;
+        std::vector<char> unchanged;
+    };
+    static void note(const EditOp& op, const std::vector<Edit>& edits, Slots& t, construct::EditChange& c) {
+        const auto i = static_cast<std::ptrdiff_t>(op.index);
+        if (op.kind == EditOp::Kind::append) {
+            t.slot.insert(t.slot.end(), op.edits.size(), -1);
+            t.unchanged.insert(t.unchanged.end(), op.edits.size(), 0);
+            return;
+        }
+        if (t.unchanged[op.index]) c.before.push_back(edits[op.index]);
+        if (op.kind == EditOp::Kind::replace) {
+            t.unchanged[op.index] = 0;
+        } else {
+            t.slot.erase(t.slot.begin() + i);
+            t.unchanged.erase(t.unchanged.begin() + i);
+        }
+    }
+    static void finish(const Slots& t, const std::vector<Edit>& edits, construct::EditChange& c) {
+        std::vector<char> occupied(t.original, 0);
+        for (std::int64_t s : t.slot)
+            if (s >= 0) occupied[static_cast<std::size_t>(s)] = 1;
+        for (std::size_t j = 0; j < t.slot.size(); ++j)
+            if (!t.unchanged[j]) c.after.push_back(edits[j]);
+        for (std::size_t s = 0; s < occupied.size(); ++s)
+            if (!occupied[s]) c.removed.push_back(static_cast<std::uint32_t>(s));
+    }
+    const EditLog* log_;
+    std::size_t next_ = 0;
+};
+
 // One frame on a whole lane. A geometry without animation keeps its build from the frame before
 // (kept); the others are built again, their old memory given back first so that they take it.
 class WholeFrames {
@@ -59,11 +127,10 @@ public:
         for (const Geometry& g : scene.geometries) animated_.push_back(animated(g));
     }
 
-    // touched[g]: an edit-log operation changed geometry g before this frame.
-    void frame(const Scene& scene, const std::vector<bool>& touched, FrameRecord& f,
-               std::optional<render::TraceResult>& trace) {
+    // edits: what the edit log's operations changed before this frame.
+    void frame(const Scene& scene, const FrameEdits& edits, FrameRecord& f, std::optional<render::TraceResult>& trace) {
         measure::Scheduler scheduler(lane_.device());
-        render::SceneBricks bricks = timed(f.construct_wall_ms, [&] { return build(scene, touched, scheduler, f); });
+        render::SceneBricks bricks = timed(f.construct_wall_ms, [&] { return build(scene, edits, scheduler, f); });
         if (spec_.work != Work::construct)
             timed(f.bvh_wall_ms, [&] { render::prepare_tracing(lane_.bvh(), scene, bricks, scheduler); });
         if (spec_.digests) {
@@ -87,26 +154,46 @@ public:
     }
 
 private:
-    render::SceneBricks build(const Scene& scene, const std::vector<bool>& touched, measure::Scheduler& scheduler,
-                              FrameRecord& f) {
+    render::SceneBricks build(const Scene& scene, const FrameEdits& edits, measure::Scheduler& scheduler, FrameRecord& f) {
         std::vector<construct::GeometryBuild> old;
         if (kept_) old = std::move(kept_->builds);
         kept_.reset();  // the last frame's BVH and tracing arrays go back to the pool
+        records_.resize(scene.geometries.size());
         render::SceneBricks out;
         out.settings = settings_.build;
         for (std::size_t g = 0; g < scene.geometries.size(); ++g) {
-            if (g < old.size() && !animated_[g] && !touched[g]) {
+            const bool had = g < old.size();
+            if (had && !animated_[g] && !edits.touched[g]) {
                 out.builds.push_back(std::move(old[g]));
             } else {
-                if (g < old.size()) old[g] = {};
-                out.builds.push_back(lane_.builder().build(scene.geometries[g], settings_.build, scheduler));
+                std::optional<construct::GeometryBuild> b;
+                if (had && !animated_[g]) b = rebuild(scene.geometries[g], old[g], edits.changes[g], records_[g], scheduler);
+                if (b) ++f.geometries_spliced;
+                if (had) old[g] = {};
+                if (!b) {
+                    records_[g].reset();
+                    b = lane_.builder().build(scene.geometries[g], settings_.build, scheduler);
+                }
+                out.builds.push_back(std::move(*b));
                 out.build_ms += out.builds.back().device_ms;
                 ++f.geometries_rebuilt;
-                f.bricks_rebuilt += out.builds.back().leaf_count;
+                f.bricks_rebuilt += out.builds.back().leaves_built;
             }
             out.bricks += out.builds.back().leaf_count;
         }
         return out;
+    }
+
+    // Geometry g rebuilt where the change reaches, from its last build; nothing when it cannot be.
+    std::optional<construct::GeometryBuild> rebuild(const Geometry& g, const construct::GeometryBuild& before,
+                                                    const construct::EditChange& change,
+                                                    std::optional<std::vector<SdfBrick>>& records,
+                                                    measure::Scheduler& scheduler) {
+        if (!records) records = before.leaves->read();  // once after each full build
+        std::optional<construct::GeometryBuild> b =
+            lane_.builder().rebuild(g, settings_.build, before, *records, change, scheduler);
+        if (!b) records.reset();
+        return b;
     }
 
     Lane& lane_;
@@ -114,6 +201,7 @@ private:
     const PlaySpec& spec_;
     std::vector<bool> animated_;  // per geometry of the scene as read (scene_at drops the animation)
     std::optional<render::SceneBricks> kept_;
+    std::vector<std::optional<std::vector<SdfBrick>>> records_;  // per geometry: its leaf records, once read
 };
 
 // One frame split over the executor's devices: every geometry rebuilt (the split builds subtrees of
@@ -161,17 +249,6 @@ void check_spec(const PlaySpec& spec, Placement placement) {
     }
 }
 
-// Applies the log's operations of frame i to scene; marks the geometries they change.
-std::size_t apply_operations(const EditLog* log, std::size_t& next, int frame, Scene& scene, std::vector<bool>& touched) {
-    std::fill(touched.begin(), touched.end(), false);
-    std::size_t applied = 0;
-    for (; log && next < log->ops.size() && log->ops[next].frame == frame; ++next, ++applied) {
-        apply(scene, log->ops[next]);
-        touched[log->ops[next].geometry] = true;
-    }
-    return applied;
-}
-
 }  // namespace
 
 PlayRun play(Executor& executor, const Scene& scene, const SettingsFor& settings, Placement placement,
@@ -189,19 +266,18 @@ PlayRun play(Executor& executor, const Scene& scene, const SettingsFor& settings
     std::optional<WholeFrames> whole;
     if (placement == Placement::whole) whole.emplace(executor.lane(0), out.lanes.front().settings, spec, scene);
     Scene current = scene;  // with the edit log's operations so far
-    std::vector<bool> touched(scene.geometries.size(), false);
-    std::size_t next_op = 0;
+    FrameEdits edits(spec.edits, scene.geometries.size());
     for (int i = 0; i < spec.frames; ++i) {
         FrameRecord f;
         f.index = i;
         f.time = spec.from + spec.dt * i;
         const ocl::MemoryPool::Allocations before = allocations(executor, n);
         const auto start = Clock::now();
-        f.operations = apply_operations(spec.edits, next_op, i, current, touched);
+        f.operations = edits.apply(i, current);
         const Scene at = scene_at(current, f.time);
         std::optional<render::TraceResult> trace;
         if (whole)
-            whole->frame(at, touched, f, trace);
+            whole->frame(at, edits, f, trace);
         else
             split_frame(executor, at, out.lanes, spec, f, trace);
         if (spec.on_image && trace) timed(f.output_wall_ms, [&] { spec.on_image(i, std::move(*trace)); });
@@ -275,6 +351,7 @@ nlohmann::json to_json(const FrameRecord& f) {
                        {"output", f.output_wall_ms}}},
                      {"bricks", f.bricks},
                      {"geometries_rebuilt", f.geometries_rebuilt},
+                     {"geometries_spliced", f.geometries_spliced},
                      {"bricks_rebuilt", f.bricks_rebuilt},
                      {"operations", f.operations},
                      {"allocations", f.allocations},

@@ -50,7 +50,8 @@ struct FrameRecord {
            output_wall_ms = 0.0;
     std::uint64_t bricks = 0;
     std::size_t geometries_rebuilt = 0;
-    std::uint64_t bricks_rebuilt = 0;  // the leaves of the geometries rebuilt
+    std::size_t geometries_spliced = 0;  // of those, rebuilt only where the edit log's changes reach
+    std::uint64_t bricks_rebuilt = 0;    // the leaves evaluated (a spliced geometry's: those built again)
     std::size_t operations = 0;        // edit-log operations applied before the frame
     // Device buffers allocated during the frame (on every lane): none once capacities settle, apart
     // from what the stages allocate each time (docs/frames.md says which).
