@@ -6,7 +6,7 @@ usage: /usr/bin/python3 tools/make_sculpt_log.py --scene OUT.json --log OUT.json
            [--strokes 60] [--stroke-edits 8] [--subtract 0.2] [--move 0.1] [--undo 0.1]
            [--base-edits 0] [--seed 1]
 
-The base shape is a sphere of radius 1 and, with --base-edits N, N small blended spheres scattered
+The base shape is a sphere of radius 1 (with the strokes' largest blend) and, with --base-edits N, N small blended spheres scattered
 over it (a scene already sculpted: --base-edits 65528 gives a 65,536-edit geometry before the log).
 Each stroke is --stroke-edits smooth capsules and spheres along a random walk over the surface,
 appended in one operation at its own frame; a share of strokes (--subtract) carve instead of add.
@@ -68,7 +68,9 @@ def stroke(rng, edits, subtract):
 
 
 def base_scene(rng, base_edits):
-    edits = [{"primitive": "sphere", "radius": 1.0}]
+    # The base sphere carries the strokes' largest blend: the saturation of the band-limited field
+    # follows the geometry's largest blend, and a stroke that raised it would change every brick.
+    edits = [{"primitive": "sphere", "radius": 1.0, "blend": 0.05}]
     for _ in range(base_edits):
         p = unit([rng.gauss(0, 1) for _ in range(3)])
         edits.append({"primitive": "sphere", "radius": round(rng.uniform(0.02, 0.06), 4),

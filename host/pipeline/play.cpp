@@ -266,6 +266,7 @@ PlayRun play(Executor& executor, const Scene& scene, const SettingsFor& settings
     std::optional<WholeFrames> whole;
     if (placement == Placement::whole) whole.emplace(executor.lane(0), out.lanes.front().settings, spec, scene);
     Scene current = scene;  // with the edit log's operations so far
+    const bool animated_scene = std::any_of(scene.geometries.begin(), scene.geometries.end(), animated);
     FrameEdits edits(spec.edits, scene.geometries.size());
     for (int i = 0; i < spec.frames; ++i) {
         FrameRecord f;
@@ -274,7 +275,10 @@ PlayRun play(Executor& executor, const Scene& scene, const SettingsFor& settings
         const ocl::MemoryPool::Allocations before = allocations(executor, n);
         const auto start = Clock::now();
         f.operations = edits.apply(i, current);
-        const Scene at = scene_at(current, f.time);
+        // A scene without animation is itself at every time (scene_at would copy every edit).
+        std::optional<Scene> moved;
+        if (animated_scene) moved = scene_at(current, f.time);
+        const Scene& at = moved ? *moved : current;
         std::optional<render::TraceResult> trace;
         if (whole)
             whole->frame(at, edits, f, trace);
