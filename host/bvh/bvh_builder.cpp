@@ -204,12 +204,12 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
 
 void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
                                  ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot, ocl::Buffer<cl_uint>& flags) {
-    out.instances = std::make_unique<ocl::Buffer<SdfInstance>>(device_, top.instances, CL_MEM_READ_ONLY);
+    out.instances = std::make_unique<ocl::Buffer<SdfInstance>>(ocl::pooled, device_, std::span<const SdfInstance>(top.instances));
     out.instance_objects = top.objects;
-    out.tlas = std::make_unique<ocl::Buffer<SdfBvhNode>>(device_, nodes_for(top.instances.size()));
+    out.tlas = std::make_unique<ocl::Buffer<SdfBvhNode>>(ocl::pooled, device_, nodes_for(top.instances.size()));
     out.tlas_node_count = out.tlas->size();
-    ocl::Buffer<cl_ulong> keys(device_, top.keys, CL_MEM_READ_ONLY);
-    ocl::Buffer<SdfBounds> boxes(device_, top.boxes, CL_MEM_READ_ONLY);
+    ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, std::span<const cl_ulong>(top.keys));
+    ocl::Buffer<SdfBounds> boxes(ocl::pooled, device_, std::span<const SdfBounds>(top.boxes));
     TreeScratch scratch(device_, top.instances.size());
     build_tree(scheduler, measure::Stage::tlas, keys, boxes, top.instances.size(), *out.tlas, 0, scratch, root_boxes,
                slot, flags);
@@ -223,8 +223,9 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
         throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
     SceneBvh out;
     const std::size_t first_launch = scheduler.size();
-    ocl::Buffer<cl_uint> flags(device_, std::vector<cl_uint>{0u});
-    ocl::Buffer<SdfBounds> root_boxes(device_, builds.size() + 1);
+    const cl_uint zero = 0;
+    ocl::Buffer<cl_uint> flags(ocl::pooled, device_, std::span<const cl_uint>(&zero, 1));
+    ocl::Buffer<SdfBounds> root_boxes(ocl::pooled, device_, builds.size() + 1);
     const std::uint64_t scratch_bytes = build_bottom_levels(builds, scheduler, out, root_boxes, flags);
     build_top_level(order_instances(scene, out, builds.size()), scheduler, out, root_boxes, builds.size(), flags);
     scheduler.resolve();

@@ -109,6 +109,8 @@ public:
         : Buffer(device, data.size(), flags) {
         write(data);
     }
+    // The same from the device's pool (read-write): a pass's uploads take the last pass's memory.
+    Buffer(Pooled, Device& device, std::span<const T> data) : Buffer(pooled, device, data.size()) { write(data); }
 
     std::size_t size() const { return count_; }
     std::size_t bytes() const { return count_ * sizeof(T); }

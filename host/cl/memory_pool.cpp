@@ -5,11 +5,17 @@
 
 namespace sdfbrick::ocl {
 
+namespace {
+// The smallest pooled allocation: requests below it share one size, so that they reuse each other.
+constexpr std::size_t kSmallest = 256;
+}  // namespace
+
 MemObject MemoryPool::take(std::size_t bytes, std::size_t& capacity) {
     std::lock_guard lock(mutex_);
     auto best = kept_.end();
     for (auto it = kept_.begin(); it != kept_.end(); ++it)
-        if (it->capacity >= bytes && it->capacity / 2 <= bytes && (best == kept_.end() || it->capacity < best->capacity))
+        if (it->capacity >= bytes && it->capacity <= std::max(2 * bytes, kSmallest) &&
+            (best == kept_.end() || it->capacity < best->capacity))
             best = it;
     if (best == kept_.end()) return MemObject();
     MemObject m = std::move(best->memory);
@@ -38,7 +44,7 @@ std::size_t MemoryPool::kept_bytes() const {
 }
 
 std::size_t pooled_capacity(std::size_t bytes, std::size_t limit) {
-    if (bytes < 4096) return std::min(limit, std::max<std::size_t>(bytes, 256));
+    if (bytes < 4096) return std::min(limit, std::max(bytes, kSmallest));
     // The next of 8 steps per power of two at or above bytes.
     const std::size_t step = std::bit_floor(bytes) / 8;
     const std::size_t rounded = (bytes + step - 1) / step * step;

@@ -22,8 +22,8 @@ public:
     MemoryPool(const MemoryPool&) = delete;
     MemoryPool& operator=(const MemoryPool&) = delete;
 
-    // A kept memory object of at least `bytes` and at most twice that (the smallest that fits), and
-    // its capacity; an empty handle when none fits.
+    // A kept memory object of at least `bytes` and at most twice that, or the smallest allocation
+    // (256 bytes) for less (the smallest that fits), and its capacity; an empty handle when none fits.
     MemObject take(std::size_t bytes, std::size_t& capacity);
     void give(MemObject memory, std::size_t capacity);
     // Frees the kept objects that were given back before the last trim and not taken since.

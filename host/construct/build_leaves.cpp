@@ -37,7 +37,7 @@ void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Bu
                     lanes, per_item, hoist ? 1 : 0, in_.settings.apron_share_edits > 0 ? 1 : 0, skip_far ? 1 : 0));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = in_.plan.domain.levels - 1;
-    const ocl::Buffer<float> level_clamp(in_.device, std::span<const float>(in_.plan.level_clamp), CL_MEM_READ_ONLY);
+    const ocl::Buffer<float> level_clamp(ocl::pooled, in_.device, std::span<const float>(in_.plan.level_clamp));
     const auto finest = static_cast<cl_uint>(in_.plan.finest());
     const ApronSharing apron = share_aprons(leaves, leaf_count, bytes);
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, lists, leaves, owned_ ? *owned_ : in_.empty_uints, in_.origin.x,
@@ -63,7 +63,7 @@ void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Bu
 LeafEvaluation::ApronSharing LeafEvaluation::share_aprons(const ocl::Buffer<SdfBrick>& leaves, std::uint64_t leaf_count,
                                                           Levels::Bytes& bytes) {
     const int share_edits = in_.settings.apron_share_edits;
-    ApronSharing a{ocl::Buffer<cl_uint>(in_.device, 0), std::nullopt, std::nullopt};
+    ApronSharing a{ocl::Buffer<cl_uint>(ocl::pooled, in_.device, 0), std::nullopt, std::nullopt};
     if (share_edits <= 0) return a;
     owned_ = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(in_.device, leaf_count, "the apron masks"));
     a.neighbours = allocate<cl_uint>(in_.device, leaf_count * 27, "the apron neighbours");

@@ -15,12 +15,12 @@ Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adapti
       subtrees_(subtrees),
       adaptive_(adaptive),
       region_(region),
-      counts_(in.device, 0),
-      offsets_(in.device, 0),
-      words_(in.device, 0),
-      bits_(in.device, 0),
-      sources_(in.device, 0),
-      kept_words_(in.device, 0) {}
+      counts_(ocl::pooled, in.device, 0),
+      offsets_(ocl::pooled, in.device, 0),
+      words_(ocl::pooled, in.device, 0),
+      bits_(ocl::pooled, in.device, 0),
+      sources_(ocl::pooled, in.device, 0),
+      kept_words_(ocl::pooled, in.device, 0) {}
 
 // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
 void Levels::start() {
@@ -29,8 +29,8 @@ void Levels::start() {
     pseudo_.level = 0xffffffffu;
     pseudo_.edit_offset = 0;
     pseudo_.edit_count = static_cast<sdf_u32>(all.size());
-    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(in_.device, std::span<const SdfBrick>(&pseudo_, 1));
-    parent_lists_ = std::make_unique<ocl::Buffer<cl_uint>>(in_.device, std::span<const cl_uint>(all));
+    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(ocl::pooled, in_.device, std::span<const SdfBrick>(&pseudo_, 1));
+    parent_lists_ = std::make_unique<ocl::Buffer<cl_uint>>(ocl::pooled, in_.device, std::span<const cl_uint>(all));
     bytes.lists = parent_lists_->bytes();
     if (in_.settings.cull && in_.settings.dependencies) {
         if (!in_.programs.dependencies)
@@ -245,7 +245,7 @@ std::uint64_t Levels::keep_subtrees(std::uint64_t children) {
     const auto [first, end] = subtrees_->pick(records);
     if (first > end || end > children)
         throw std::logic_error(fmt::format("subtrees: range [{}, {}) of {} bricks", first, end, children));
-    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(in_.device,
+    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(ocl::pooled, in_.device,
                                                        std::span<const SdfBrick>(records).subspan(first, end - first));
     return end - first;
 }
@@ -256,7 +256,7 @@ std::uint64_t Levels::keep_region(int level, std::uint64_t children) {
     const std::vector<SdfBrick> records = parents_->read();
     std::vector<SdfBrick> kept;
     for (std::uint32_t i : region_->keep(level, records)) kept.push_back(records.at(i));
-    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(in_.device, std::span<const SdfBrick>(kept));
+    parents_ = std::make_unique<ocl::Buffer<SdfBrick>>(ocl::pooled, in_.device, std::span<const SdfBrick>(kept));
     return kept.size();
 }
 

@@ -83,9 +83,9 @@ BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, co
       scheduler(scheduler),
       out(out),
       edits_host(to_device(g)),
-      edits(d, edits_host, CL_MEM_READ_ONLY),
-      meshes(d, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d, scheduler)), CL_MEM_READ_ONLY),
+      edits(ocl::pooled, d, std::span<const SdfEdit>(edits_host)),
+      meshes(ocl::pooled, d, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d, scheduler))),
       origin(plan.domain.origin),
-      empty_uints(d, 0) {}
+      empty_uints(ocl::pooled, d, 0) {}
 
 }  // namespace sdfbrick::construct::detail

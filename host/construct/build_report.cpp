@@ -31,7 +31,7 @@ BuildReport::Counters BuildReport::count_on_device(const ocl::Buffer<SdfBrick>& 
     if (leaf_groups > 0) {
         std::vector<cl_uint> flops(in_.edits_host.size());
         for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = static_cast<cl_uint>(edit_flops(in_.edits_host[i]));
-        const ocl::Buffer<cl_uint> flops_d(in_.device, std::span<const cl_uint>(flops), CL_MEM_READ_ONLY);
+        const ocl::Buffer<cl_uint> flops_d(ocl::pooled, in_.device, std::span<const cl_uint>(flops));
         ocl::set_args(k.leaf.get(), leaves, static_cast<cl_uint>(leaf_count), lists, flops_d,
                       evaluation_.owned() ? *evaluation_.owned() : in_.empty_uints,
                       static_cast<cl_uint>(evaluation_.owned() ? 1 : 0), partial, static_cast<cl_uint>(leaf_base));

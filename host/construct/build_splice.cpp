@@ -192,9 +192,9 @@ void splice(detail::BuildInputs& in, const GeometryBuild& before, const ocl::Buf
     const GeometryBuild& part = in.out;
     const std::uint64_t n = out.leaf_count;
     const std::size_t brick_bytes = in.settings.layout().brick_bytes();
-    const ocl::Buffer<cl_uint4> runs(device_, std::span<const cl_uint4>(segments), CL_MEM_READ_ONLY);
+    const ocl::Buffer<cl_uint4> runs(ocl::pooled, device_, std::span<const cl_uint4>(segments));
     const std::vector<cl_uint> removed_list(removed.begin(), removed.end());
-    const ocl::Buffer<cl_uint> removed_d(device_, std::span<const cl_uint>(removed_list), CL_MEM_READ_ONLY);
+    const ocl::Buffer<cl_uint> removed_d(ocl::pooled, device_, std::span<const cl_uint>(removed_list));
     ocl::Buffer<cl_uint> counts(ocl::pooled, device_, n + 1), offsets(ocl::pooled, device_, n + 1);
     const auto segment_count = static_cast<cl_uint>(segments.size() - 1);
     ocl::set_args(k.counts.get(), *before.leaves, fresh, runs, segment_count, static_cast<cl_uint>(n), counts);

@@ -63,7 +63,7 @@ void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& out,
     none.voxel = none.inv_voxel = none.dequant = 1.0f;
     none.root = SDF_NO_NODE;
     table.push_back(none);
-    out.geometries = std::make_unique<ocl::Buffer<SdfBrickGeometry>>(device, table, CL_MEM_READ_ONLY);
+    out.geometries = std::make_unique<ocl::Buffer<SdfBrickGeometry>>(ocl::pooled, device, std::span<const SdfBrickGeometry>(table));
 
     double scale = 0.0;
     for (const Object& o : scene.objects) scale = scale == 0.0 ? o.transform.scale : std::min(scale, o.transform.scale);
