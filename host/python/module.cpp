@@ -35,6 +35,8 @@
 #include "core/quote.h"
 #include "pipeline/command_report.h"
 #include "pipeline/executor.h"
+#include "pipeline/play.h"
+#include "scene/edit_log.h"
 #include "reference/accuracy.h"
 #include "scene/generate.h"
 #include "scene/scene_info.h"
@@ -279,6 +281,50 @@ private:
 
 // The build settings of a call: the names of the report's "settings" (so that a report's settings
 // can be passed back), and tolerance_voxels.
+// The trace keywords of render and play: image size, mode, method, normals, work-group, shading rays.
+struct TraceArgs {
+    render::TraceSettings trace;
+    std::string mode = "normals";
+    bool group_given = false;
+};
+
+TraceArgs take_trace(Kwargs& k) {
+    TraceArgs t;
+    render::TraceSettings& trace = t.trace;
+    if (const auto v = k.integer("width")) trace.width = *v;
+    if (const auto v = k.integer("height")) trace.height = *v;
+    if (const auto v = k.string("mode")) t.mode = *v;
+    if (const auto v = k.string("method")) {
+        const auto m = render::method_from_string(*v);
+        if (!m) throw SettingError("method", fmt::format("method must be {}, got \"{}\"", render::method_names(), *v));
+        trace.method = *m;
+    }
+    if (const auto v = k.string("normals")) {
+        const auto n = render::normals_from_string(*v);
+        if (!n) throw SettingError("normals", fmt::format("normals must be central, tetra or continuous, got \"{}\"", *v));
+        trace.normals = *n;
+    }
+    if (const auto v = k.integer("group_x")) {
+        trace.group_x = *v;
+        t.group_given = true;
+    }
+    if (const auto v = k.integer("group_y")) {
+        trace.group_y = *v;
+        t.group_given = true;
+    }
+    if (const auto v = k.integer("shadow_rays")) trace.shadow_rays = *v;
+    if (const auto v = k.integer("ao_rays")) trace.ao_rays = *v;
+    if (!pipeline::is_render_mode(t.mode))
+        throw SettingError("mode", fmt::format("mode must be normals, depth, shaded, steps or bricks, got \"{}\"", t.mode));
+    if (trace.shadow_rays < 0 || trace.shadow_rays > 64)
+        throw SettingError("shadow_rays", fmt::format("shadow_rays must lie in 0..64, got {}", trace.shadow_rays));
+    if (trace.ao_rays < 0 || trace.ao_rays > 64)
+        throw SettingError("ao_rays", fmt::format("ao_rays must lie in 0..64, got {}", trace.ao_rays));
+    trace.shade = t.mode == "shaded";
+    validate_image_size(trace.width, trace.height);
+    return t;
+}
+
 struct BuildArgs {
     construct::BuildSettings settings;
     tune::Given given;
@@ -495,6 +541,47 @@ public:
         return to_python(report_json);
     }
 
+    py::object play(const PyScene& scene, const py::kwargs& kwargs) {
+        Kwargs k(kwargs, "play");
+        pipeline::PlaySpec spec;
+        if (const auto v = k.integer("frames")) spec.frames = *v;
+        const std::optional<double> fps = k.number("fps"), dt = k.number("dt"), start = k.number("start");
+        const std::optional<std::string> edits = k.string("edits"), work = k.string("work");
+        spec.digests = k.boolean("digests").value_or(false);
+        const TraceArgs t = take_trace(k);
+        BuildArgs args = take_build_settings(k);
+        k.done();
+        args.given.trace_group = t.group_given;
+        if (fps && dt) throw py::type_error("fps and dt exclude each other");
+        if (fps && !(*fps > 0.0)) throw SettingError("fps", fmt::format("fps must be > 0, got {}", *fps));
+        if (dt && !(*dt > 0.0)) throw SettingError("dt", fmt::format("dt must be > 0, got {}", *dt));
+        spec.dt = dt.value_or(1.0 / fps.value_or(60.0));
+        spec.from = start.value_or(scene.scene->time);
+        if (work == "construct") spec.work = pipeline::Work::construct;
+        else if (work == "bvh") spec.work = pipeline::Work::bvh;
+        else if (work && *work != "trace")
+            throw SettingError("work", fmt::format("work must be construct, bvh or trace, got \"{}\"", *work));
+        if (placement_ == pipeline::Placement::replicate)
+            throw InputError("play runs one device, or several with placement split");
+
+        nlohmann::json report_json;
+        {
+            const py::gil_scoped_release release;
+            const std::lock_guard lock(mutex_);
+            pipeline::Executor& executor = open_executor();
+            std::optional<EditLog> log;
+            if (edits) log = load_edit_log(*edits, *scene.scene);
+            spec.edits = log ? &*log : nullptr;
+            const pipeline::PlayRun run =
+                pipeline::play(executor, *scene.scene, tune::settings_for(args.settings, t.trace, tuning(), args.given),
+                               placement_, spec);
+            const pipeline::PlayRequest request{scene.file.value_or(""), scene.scene->name, t.mode, t.trace,
+                                                dt ? 0.0 : 1.0 / spec.dt, "", edits.value_or(""), spec.work};
+            report_json = pipeline::to_json(request, run);
+        }
+        return to_python(report_json);
+    }
+
     RenderResult render(const PyScene& scene, const py::kwargs& kwargs) {
         Kwargs k(kwargs, "render");
         const std::optional<double> time = k.number("time");
@@ -503,47 +590,18 @@ public:
         request.file = scene.file.value_or("");
         request.repeat = repeat;
         request.warmup = warmup;
+        TraceArgs t = take_trace(k);
+        request.trace = t.trace;
+        request.mode = t.mode;
         render::TraceSettings& trace = request.trace;
-        if (const auto v = k.integer("width")) trace.width = *v;
-        if (const auto v = k.integer("height")) trace.height = *v;
-        if (const auto v = k.string("mode")) request.mode = *v;
-        if (const auto v = k.string("method")) {
-            const auto m = render::method_from_string(*v);
-            if (!m) throw SettingError("method", fmt::format("method must be {}, got \"{}\"", render::method_names(), *v));
-            trace.method = *m;
-        }
-        if (const auto v = k.string("normals")) {
-            const auto n = render::normals_from_string(*v);
-            if (!n) throw SettingError("normals", fmt::format("normals must be central, tetra or continuous, got \"{}\"", *v));
-            trace.normals = *n;
-        }
         request.compare = k.boolean("compare").value_or(false);
         request.reference = k.boolean("reference").value_or(false);
-        tune::Given trace_given;
-        if (const auto v = k.integer("group_x")) {
-            trace.group_x = *v;
-            trace_given.trace_group = true;
-        }
-        if (const auto v = k.integer("group_y")) {
-            trace.group_y = *v;
-            trace_given.trace_group = true;
-        }
-        if (const auto v = k.integer("shadow_rays")) trace.shadow_rays = *v;
-        if (const auto v = k.integer("ao_rays")) trace.ao_rays = *v;
         BuildArgs args = take_build_settings(k);
         k.done();
-        args.given.trace_group = trace_given.trace_group;
-        if (!pipeline::is_render_mode(request.mode))
-            throw SettingError("mode", fmt::format("mode must be normals, depth, shaded, steps or bricks, got \"{}\"", request.mode));
-        if (trace.shadow_rays < 0 || trace.shadow_rays > 64)
-            throw SettingError("shadow_rays", fmt::format("shadow_rays must lie in 0..64, got {}", trace.shadow_rays));
-        if (trace.ao_rays < 0 || trace.ao_rays > 64)
-            throw SettingError("ao_rays", fmt::format("ao_rays must lie in 0..64, got {}", trace.ao_rays));
+        args.given.trace_group = t.group_given;
         if (request.reference && request.mode != "normals" && request.mode != "depth")
             throw InputError("reference renders the normals and depth modes only");
         if (request.reference && request.compare) throw InputError("reference and compare exclude each other");
-        trace.shade = request.mode == "shaded";
-        validate_image_size(trace.width, trace.height);
 
         nlohmann::json report_json;
         auto data = std::make_shared<RenderData>();
@@ -946,6 +1004,9 @@ PYBIND11_MODULE(sdfbrick, m) {
              "samples, format, band_voxels, guard, chunk, group, lanes, count_parts, cull, skip_far, "
              "apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, repeat, warmup, "
              "reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
+        .def("play", &Context::play, py::arg("scene"),
+             "Plays the scene's animation (and an edit log: edits=PATH) frame by frame: the report of "
+             "`sdfbrick play --json` (frames=, fps= or dt=, start=, work=, digests=, the render and build keywords)")
         .def("render", &Context::render, py::arg("scene"),
              "Builds and traces the scene: the build's keyword arguments and width, height, mode, method, normals, "
              "compare, reference, group_x, group_y, shadow_rays, ao_rays. Returns a RenderResult.")
