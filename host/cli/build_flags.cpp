@@ -6,6 +6,8 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "pipeline/command_report.h"
+#include "scene/to_device.h"
 
 namespace sdfbrick::cli {
 
@@ -84,6 +86,35 @@ void MeasureFlags::add_to(CLI::App* cmd, const char* what) {
     cmd->add_option("--warmup", warmup, "uncaptured runs first (default: 1 when --repeat > 1, else 0)")->check(CLI::Range(0, 100));
     cmd->add_flag("--kernel-stats", kernel_stats, "print a per-kernel table: launches, total ms, share, mean/min/max, "
                                                   "attributes and occupancy proxies");
+}
+
+void TraceFlags::add_to(CLI::App* cmd) {
+    cmd->add_option("--width", trace.width, "image width (1..3840)")->capture_default_str();
+    cmd->add_option("--height", trace.height, "image height (1..2160)")->capture_default_str();
+    cmd->add_option("--mode", mode, "normals, depth, shaded, steps (heat map) or bricks (brick ids)")->capture_default_str();
+    cmd->add_option("--method", method, "in-brick search: sphere (sphere tracing), analytic (trilinear cell roots) or hybrid "
+                                         "(sphere steps far from the surface, cell roots near it)")->capture_default_str();
+    cmd->add_option("--normals", normals, "central, tetra or continuous")->capture_default_str();
+    group_x_ = cmd->add_option("--group-x", trace.group_x, "trace work-group width (default: tuned for the device, else 16)");
+    group_y_ = cmd->add_option("--group-y", trace.group_y, "trace work-group height (default: tuned for the device, else 8)");
+    add_setting_flags(cmd, {{"width", "--width"}, {"height", "--height"}, {"group_x", "--group-x"}, {"group_y", "--group-y"}});
+    cmd->add_option("--shadow-rays", trace.shadow_rays, "shaded mode: shadow rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
+    cmd->add_option("--ao-rays", trace.ao_rays, "shaded mode: ambient occlusion rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
+}
+
+render::TraceSettings TraceFlags::resolve() const {
+    if (!pipeline::is_render_mode(mode))
+        throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", mode));
+    const auto m = render::method_from_string(method);
+    if (!m) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), method));
+    const auto n = render::normals_from_string(normals);
+    if (!n) throw InputError(fmt::format("--normals must be central, tetra or continuous, got \"{}\"", normals));
+    render::TraceSettings t = trace;
+    t.method = *m;
+    t.normals = *n;
+    t.shade = mode == "shaded";
+    validate_image_size(t.width, t.height);
+    return t;
 }
 
 }  // namespace sdfbrick::cli

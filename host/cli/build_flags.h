@@ -1,5 +1,5 @@
-// The construction options that `build`, `render` (and later verbs) share: one definition of the
-// flags, their parsing and their JSON record.
+// The options that several verbs share (construction: `build`, `render`, `play`, ...; tracing:
+// `render`, `play`; repeats): one definition of the flags, their parsing and their JSON record.
 #pragma once
 
 #include <optional>
@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "construct/brick_builder.h"
+#include "render/brick_tracer.h"
 #include "tune/apply.h"
 
 namespace sdfbrick::cli {
@@ -33,6 +34,25 @@ private:
     CLI::Option* tolerance_ = nullptr;
     CLI::Option* chunk_ = nullptr;
     CLI::Option* group_ = nullptr;
+};
+
+// The trace options that `render` and `play` share: --width --height --mode --method --normals
+// --group-x --group-y --shadow-rays --ao-rays.
+struct TraceFlags {
+    render::TraceSettings trace;
+    std::string mode = "normals";
+    std::string method = "sphere";
+    std::string normals = "continuous";
+
+    void add_to(CLI::App* cmd);
+    // The settings with --mode, --method and --normals applied; throws InputError naming the flag.
+    render::TraceSettings resolve() const;
+    // Whether --group-x or --group-y was given (add_to must have run).
+    bool group_given() const { return group_x_->count() > 0 || group_y_->count() > 0; }
+
+private:
+    CLI::Option* group_x_ = nullptr;
+    CLI::Option* group_y_ = nullptr;
 };
 
 // Repeats and what to report about them: --repeat, --warmup, --kernel-stats.

@@ -39,14 +39,10 @@ struct PlayOptions {
     int frames = 60;
     std::optional<double> fps, dt, from;
     BuildFlags flags;
-    render::TraceSettings trace;
-    std::string mode = "normals";
-    std::string method = "sphere";
-    std::string normals = "continuous";
+    TraceFlags tracing;
     std::optional<std::string> out, json, edits;
     std::string work = "trace";
     bool digests = false;
-    bool trace_group_given = false;
 };
 
 // A frame file pattern: one printf-style integer field (%d or %0Nd, N <= 9) for the frame number;
@@ -188,16 +184,8 @@ void check_frame_outputs(const PlayOptions& o, const std::optional<FramePattern>
 void run_play(PlayOptions o, const GlobalOptions& global) {
     apply_global_options(global, true);
     const construct::BuildSettings settings = o.flags.resolve();
-    if (!pipeline::is_render_mode(o.mode))
-        throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", o.mode));
-    const auto method = render::method_from_string(o.method);
-    if (!method) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), o.method));
-    const auto normals = render::normals_from_string(o.normals);
-    if (!normals) throw InputError(fmt::format("--normals must be central, tetra or continuous, got \"{}\"", o.normals));
-    o.trace.method = *method;
-    o.trace.normals = *normals;
-    o.trace.shade = o.mode == "shaded";
-    validate_image_size(o.trace.width, o.trace.height);
+    const render::TraceSettings trace = o.tracing.resolve();
+    const std::string& mode = o.tracing.mode;
     std::optional<FramePattern> pattern;
     if (o.out) pattern.emplace(*o.out);
 
@@ -217,11 +205,11 @@ void run_play(PlayOptions o, const GlobalOptions& global) {
         throw InputError("--devices replicate: play runs one device, or several with --devices split");
     const TuningChoice tuning = open_tuning(global);
     tune::Given given = o.flags.given();
-    given.trace_group = o.trace_group_given;
+    given.trace_group = o.tracing.group_given();
 
     std::optional<FrameWriter> writer;
     if (pattern) {
-        writer.emplace(o.mode, *pattern);
+        writer.emplace(mode, *pattern);
         spec.on_image = [&writer](int frame, render::TraceResult&& t) { writer->push(frame, std::move(t)); };
     }
     const bool terminal = isatty(STDERR_FILENO) != 0;
@@ -236,10 +224,10 @@ void run_play(PlayOptions o, const GlobalOptions& global) {
     const pipeline::Placement placement =
         devices->placement == pipeline::Placement::split ? pipeline::Placement::split : pipeline::Placement::whole;
     const pipeline::PlayRun run =
-        pipeline::play(devices->executor, scene, tune::settings_for(settings, o.trace, tuning.get(), given), placement, spec);
+        pipeline::play(devices->executor, scene, tune::settings_for(settings, trace, tuning.get(), given), placement, spec);
     if (writer) writer->finish();
 
-    const pipeline::PlayRequest request{o.file,           scene.name, o.mode, o.trace, o.dt ? 0.0 : 1.0 / spec.dt,
+    const pipeline::PlayRequest request{o.file,           scene.name, mode, trace, o.dt ? 0.0 : 1.0 / spec.dt,
                                         o.out.value_or(""), o.edits.value_or(""), spec.work};
     if (o.json) write_all({text_output(*o.json, format_json(pipeline::to_json(request, run)))});
     std::fputs(pipeline::to_text(request, run).c_str(), stdout);
@@ -258,25 +246,13 @@ void add_play_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--dt", o->dt, "time step in seconds instead of --fps (the budget is the step)")->check(finite_number());
     cmd->add_option("--from", o->from, "the first frame's time in seconds (default: the scene's)")->check(finite_number());
     o->flags.add_to(cmd);
-    cmd->add_option("--width", o->trace.width, "image width (1..3840)")->capture_default_str();
-    cmd->add_option("--height", o->trace.height, "image height (1..2160)")->capture_default_str();
-    cmd->add_option("--mode", o->mode, "normals, depth, shaded, steps or bricks")->capture_default_str();
-    cmd->add_option("--method", o->method, "in-brick search: sphere, analytic or hybrid")->capture_default_str();
-    cmd->add_option("--normals", o->normals, "central, tetra or continuous")->capture_default_str();
+    o->tracing.add_to(cmd);
     cmd->add_option("--out", o->out, "write every frame's picture: a pattern with one frame field, e.g. frames/%04d.png");
     cmd->add_option("--json", o->json, "write the report (every frame and the summary) as JSON");
     cmd->add_option("--edits", o->edits, "an edit log (JSON lines: append, remove or replace edits at given frames)");
     cmd->add_option("--work", o->work, "how far each frame goes: construct, bvh or trace")->capture_default_str();
     cmd->add_flag("--digests", o->digests, "each frame's brick and image digests, computed on the device");
-    auto* gx = cmd->add_option("--group-x", o->trace.group_x, "trace work-group width (default: tuned, else 16)");
-    auto* gy = cmd->add_option("--group-y", o->trace.group_y, "trace work-group height (default: tuned, else 8)");
-    add_setting_flags(cmd, {{"width", "--width"}, {"height", "--height"}, {"group_x", "--group-x"}, {"group_y", "--group-y"}});
-    cmd->add_option("--shadow-rays", o->trace.shadow_rays, "shaded mode: shadow rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
-    cmd->add_option("--ao-rays", o->trace.ao_rays, "shaded mode: ambient occlusion rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
-    cmd->callback([o, &global, gx, gy] {
-        o->trace_group_given = gx->count() > 0 || gy->count() > 0;
-        run_play(*o, global);
-    });
+    cmd->callback([o, &global] { run_play(*o, global); });
 }
 
 }  // namespace sdfbrick::cli

@@ -25,15 +25,13 @@ struct RenderOptions {
     std::string file;
     std::optional<double> time;
     BuildFlags flags;
-    render::TraceSettings trace;
-    std::string mode = "normals";
-    std::string method = "sphere";
-    std::string normals = "continuous";
+    TraceFlags tracing;
+    render::TraceSettings trace;  // resolved from tracing
+    std::string mode;
     std::optional<std::string> out;
     bool reference = false;
     bool compare = false;
     MeasureFlags measure;
-    bool trace_group_given = false;
     std::optional<std::string> json;
 };
 
@@ -69,19 +67,11 @@ std::vector<Output> picture_outputs(const RenderOptions& o, const pipeline::Rend
 void run_render(RenderOptions o, const GlobalOptions& global) {
     apply_global_options(global, true);
     const construct::BuildSettings settings = o.flags.resolve();
-    if (!pipeline::is_render_mode(o.mode))
-        throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", o.mode));
-    const auto method = render::method_from_string(o.method);
-    if (!method) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), o.method));
-    const auto normals = render::normals_from_string(o.normals);
-    if (!normals) throw InputError(fmt::format("--normals must be central, tetra or continuous, got \"{}\"", o.normals));
+    o.trace = o.tracing.resolve();
+    o.mode = o.tracing.mode;
     if (o.reference && o.mode != "normals" && o.mode != "depth")
         throw InputError("--reference renders the normals and depth modes only");
     if (o.reference && o.compare) throw InputError("--reference and --compare exclude each other");
-    o.trace.method = *method;
-    o.trace.normals = *normals;
-    o.trace.shade = o.mode == "shaded";
-    validate_image_size(o.trace.width, o.trace.height);
 
     const Scene file_scene = load_scene_warned(o.file);
     const double t = o.time.value_or(file_scene.time);
@@ -98,7 +88,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const std::unique_ptr<RunDevices> devices = open_run_devices(global);
     const TuningChoice tuning = open_tuning(global);
     tune::Given given = o.flags.given();
-    given.trace_group = o.trace_group_given;
+    given.trace_group = o.tracing.group_given();
     pipeline::Job job;
     job.work = pipeline::Work::trace;
     job.bricks = !o.reference;
@@ -133,28 +123,14 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("file", o->file, "scene file (JSON)")->required();
     cmd->add_option("--time", o->time, "animation time in seconds (default: the scene's)")->check(finite_number());
     o->flags.add_to(cmd);
-    cmd->add_option("--width", o->trace.width, "image width (1..3840)")->capture_default_str();
-    cmd->add_option("--height", o->trace.height, "image height (1..2160)")->capture_default_str();
-    cmd->add_option("--mode", o->mode, "normals, depth, shaded, steps (heat map) or bricks (brick ids)")->capture_default_str();
-    cmd->add_option("--method", o->method, "in-brick search: sphere (sphere tracing), analytic (trilinear cell roots) or hybrid "
-                                          "(sphere steps far from the surface, cell roots near it)")->capture_default_str();
-    cmd->add_option("--normals", o->normals, "central, tetra or continuous")->capture_default_str();
+    o->tracing.add_to(cmd);
     cmd->add_option("--out", o->out, "picture file (default SCENE-MODE.png; .exr keeps raw depth in depth mode)");
     cmd->add_flag("--reference", o->reference, "render with the reference tracer (analytic edits) instead of bricks");
     cmd->add_flag("--compare", o->compare, "also render the reference and report accuracy; writes -reference and "
                                            "-difference images beside --out");
     o->measure.add_to(cmd, "build, BVH and trace");
-    auto* gx = cmd->add_option("--group-x", o->trace.group_x, "trace work-group width (default: tuned for the device, else 16)");
-    auto* gy = cmd->add_option("--group-y", o->trace.group_y, "trace work-group height (default: tuned for the device, else 8)");
-    add_setting_flags(cmd, {{"width", "--width"}, {"height", "--height"}, {"group_x", "--group-x"}, {"group_y", "--group-y"}});
-
-    cmd->add_option("--shadow-rays", o->trace.shadow_rays, "shaded mode: shadow rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
-    cmd->add_option("--ao-rays", o->trace.ao_rays, "shaded mode: ambient occlusion rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
     cmd->add_option("--json", o->json, "write a JSON report here");
-    cmd->callback([o, gx, gy, &global] {
-        o->trace_group_given = gx->count() > 0 || gy->count() > 0;
-        run_render(*o, global);
-    });
+    cmd->callback([o, &global] { run_render(*o, global); });
 }
 
 }  // namespace sdfbrick::cli
