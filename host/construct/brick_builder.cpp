@@ -77,7 +77,7 @@ BrickBuilder::BrickBuilder(ocl::Device& device)
 BrickBuilder::~BrickBuilder() = default;
 
 GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, measure::Scheduler& scheduler,
-                                  const Subtrees* subtrees) {
+                                  const Subtrees* subtrees, const std::vector<SdfEdit>* prepared) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate(device_.info());
     if (g.edits.size() > SDF_MAX_EDITS)
@@ -104,7 +104,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
     out.clamp_c = plan.clamp_c;
     out.coarsest_leaf_level = plan.coarsest_leaf;
     out.tolerance = s.tolerance;
-    detail::BuildInputs in(device_, *programs_, scan_, g, s, plan, scheduler, out);
+    detail::BuildInputs in(device_, *programs_, scan_, g, s, plan, scheduler, out, prepared);
     std::optional<detail::AdaptiveLeaves> adaptive;
     if (s.adaptive()) adaptive.emplace(in);
     detail::Levels levels(in, subtrees, adaptive ? &*adaptive : nullptr);

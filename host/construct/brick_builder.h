@@ -182,9 +182,10 @@ public:
     // Builds one geometry (already at the scene's time). An empty geometry (no add edit) gives an
     // empty, valid result. Throws InputError for settings or sizes the device cannot hold.
     // Every launch is recorded in scheduler (the run's launch recorder); build() waits for its own.
-    // With subtrees, only the descendants of the range it picks are built.
+    // With subtrees, only the descendants of the range it picks are built. prepared: g's edits in
+    // device form (to_device(g)) when the caller keeps them from build to build; null: converted here.
     GeometryBuild build(const Geometry& g, const BuildSettings& settings, measure::Scheduler& scheduler,
-                        const Subtrees* subtrees = nullptr);
+                        const Subtrees* subtrees = nullptr, const std::vector<SdfEdit>* prepared = nullptr);
 
     // The build of g after change, from `before` (this builder's build of the geometry before the
     // change, with the same settings) and `records` (before's leaf records, read back): only the
@@ -195,7 +196,7 @@ public:
     // edit among the changed ones; a domain, band or saturation that the change moved.
     std::optional<GeometryBuild> rebuild(const Geometry& g, const BuildSettings& settings, const GeometryBuild& before,
                                          std::vector<SdfBrick>& records, const EditChange& change,
-                                         measure::Scheduler& scheduler);
+                                         measure::Scheduler& scheduler, const std::vector<SdfEdit>* prepared = nullptr);
 
 private:
     ocl::Device& device_;

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -161,8 +162,10 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
 
 // What every part of one build reads.
 struct BuildInputs {
+    // prepared: g's edits in device form when the caller keeps them (to_device(g)); null: converted here.
     BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
-                const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out);
+                const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out,
+                const std::vector<SdfEdit>* prepared = nullptr);
     ocl::Device& device;
     BuildPrograms& programs;
     Scan& scan;
@@ -171,7 +174,8 @@ struct BuildInputs {
     const BuildPlan& plan;
     measure::Scheduler& scheduler;
     GeometryBuild& out;
-    std::vector<SdfEdit> edits_host;
+    std::vector<SdfEdit> converted;       // g's edits in device form, unless prepared
+    std::span<const SdfEdit> edits_host;  // prepared or converted
     ocl::Buffer<SdfEdit> edits;
     ocl::Buffer<float> meshes;  // the mesh pool (construct/mesh_pool.h)
     glm::vec3 origin;

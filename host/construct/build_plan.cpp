@@ -73,7 +73,8 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
 }
 
 BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
-                         const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out)
+                         const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out,
+                         const std::vector<SdfEdit>* prepared)
     : device(d),
       programs(programs),
       scan(scan),
@@ -82,8 +83,9 @@ BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, co
       plan(plan),
       scheduler(scheduler),
       out(out),
-      edits_host(to_device(g)),
-      edits(ocl::pooled, d, std::span<const SdfEdit>(edits_host)),
+      converted(prepared ? std::vector<SdfEdit>{} : to_device(g)),
+      edits_host(prepared ? *prepared : converted),
+      edits(ocl::pooled, d, edits_host),
       meshes(ocl::pooled, d, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d, scheduler))),
       origin(plan.domain.origin),
       empty_uints(ocl::pooled, d, 0) {}

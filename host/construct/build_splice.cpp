@@ -219,7 +219,7 @@ void splice(detail::BuildInputs& in, const GeometryBuild& before, const ocl::Buf
 
 std::optional<GeometryBuild> BrickBuilder::rebuild(const Geometry& g, const BuildSettings& s, const GeometryBuild& before,
                                                    std::vector<SdfBrick>& records, const EditChange& change,
-                                                   measure::Scheduler& scheduler) {
+                                                   measure::Scheduler& scheduler, const std::vector<SdfEdit>* prepared) {
     const auto wall_start = std::chrono::steady_clock::now();
     s.validate(device_.info());
     const Aabb box = bounds(g);
@@ -232,7 +232,7 @@ std::optional<GeometryBuild> BrickBuilder::rebuild(const Geometry& g, const Buil
     part.name = g.name;
     part.first_launch = scheduler.size();
     part.leaf_size = before.leaf_size;
-    detail::BuildInputs in(device_, *programs_, scan_, g, s, plan, scheduler, part);
+    detail::BuildInputs in(device_, *programs_, scan_, g, s, plan, scheduler, part, prepared);
     Confinement confinement(plan, records, change, s.layout().apron());
     const detail::Region region = confinement.region();
     detail::Levels levels(in, nullptr, nullptr, &region);

@@ -77,10 +77,19 @@ public:
             touched[op.geometry] = true;
             note(op, edits, t, changes[op.geometry]);
             sdfbrick::apply(scene, op);
+            update_device(op);
         }
         for (auto& [g, t] : slots) finish(t, scene.geometries[g].edits, changes[g]);
         return applied;
     }
+    // Geometry g's edits in device form (to_device), made on first use and kept up to date with the
+    // operations (only for geometries without animation: an animated one changes every frame).
+    const std::vector<SdfEdit>& device_edits(std::size_t g, const Geometry& geometry) {
+        if (device_.size() <= g) device_.resize(g + 1);
+        if (!device_[g]) device_[g] = to_device(geometry);
+        return *device_[g];
+    }
+
     std::vector<bool> touched;
     std::vector<construct::EditChange> changes;
 
@@ -114,8 +123,20 @@ private:
         for (std::size_t s = 0; s < occupied.size(); ++s)
             if (!occupied[s]) c.removed.push_back(static_cast<std::uint32_t>(s));
     }
+    void update_device(const EditOp& op) {
+        if (op.geometry >= device_.size() || !device_[op.geometry]) return;
+        std::vector<SdfEdit>& d = *device_[op.geometry];
+        switch (op.kind) {
+            case EditOp::Kind::append:
+                for (const Edit& e : op.edits) d.push_back(to_device(e));
+                break;
+            case EditOp::Kind::remove: d.erase(d.begin() + static_cast<std::ptrdiff_t>(op.index)); break;
+            case EditOp::Kind::replace: d.at(op.index) = to_device(op.edits.front()); break;
+        }
+    }
     const EditLog* log_;
     std::size_t next_ = 0;
+    std::vector<std::optional<std::vector<SdfEdit>>> device_;
 };
 
 // One frame on a whole lane. A geometry without animation keeps its build from the frame before
@@ -128,7 +149,7 @@ public:
     }
 
     // edits: what the edit log's operations changed before this frame.
-    void frame(const Scene& scene, const FrameEdits& edits, FrameRecord& f, std::optional<render::TraceResult>& trace) {
+    void frame(const Scene& scene, FrameEdits& edits, FrameRecord& f, std::optional<render::TraceResult>& trace) {
         measure::Scheduler scheduler(lane_.device());
         render::SceneBricks bricks = timed(f.construct_wall_ms, [&] { return build(scene, edits, scheduler, f); });
         if (spec_.work != Work::construct)
@@ -154,7 +175,7 @@ public:
     }
 
 private:
-    render::SceneBricks build(const Scene& scene, const FrameEdits& edits, measure::Scheduler& scheduler, FrameRecord& f) {
+    render::SceneBricks build(const Scene& scene, FrameEdits& edits, measure::Scheduler& scheduler, FrameRecord& f) {
         std::vector<construct::GeometryBuild> old;
         if (kept_) old = std::move(kept_->builds);
         kept_.reset();  // the last frame's BVH and tracing arrays go back to the pool
@@ -166,13 +187,15 @@ private:
             if (had && !animated_[g] && !edits.touched[g]) {
                 out.builds.push_back(std::move(old[g]));
             } else {
+                const Geometry& geometry = scene.geometries[g];
+                const std::vector<SdfEdit>* prepared = animated_[g] ? nullptr : &edits.device_edits(g, geometry);
                 std::optional<construct::GeometryBuild> b;
-                if (had && !animated_[g]) b = rebuild(scene.geometries[g], old[g], edits.changes[g], records_[g], scheduler);
+                if (had && !animated_[g]) b = rebuild(geometry, old[g], edits.changes[g], records_[g], scheduler, prepared);
                 if (b) ++f.geometries_spliced;
                 if (had) old[g] = {};
                 if (!b) {
                     records_[g].reset();
-                    b = lane_.builder().build(scene.geometries[g], settings_.build, scheduler);
+                    b = lane_.builder().build(geometry, settings_.build, scheduler, nullptr, prepared);
                 }
                 out.builds.push_back(std::move(*b));
                 out.build_ms += out.builds.back().device_ms;
@@ -188,10 +211,10 @@ private:
     std::optional<construct::GeometryBuild> rebuild(const Geometry& g, const construct::GeometryBuild& before,
                                                     const construct::EditChange& change,
                                                     std::optional<std::vector<SdfBrick>>& records,
-                                                    measure::Scheduler& scheduler) {
+                                                    measure::Scheduler& scheduler, const std::vector<SdfEdit>* prepared) {
         if (!records) records = before.leaves->read();  // once after each full build
         std::optional<construct::GeometryBuild> b =
-            lane_.builder().rebuild(g, settings_.build, before, *records, change, scheduler);
+            lane_.builder().rebuild(g, settings_.build, before, *records, change, scheduler, prepared);
         if (!b) records.reset();
         return b;
     }
