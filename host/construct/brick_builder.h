@@ -193,7 +193,9 @@ public:
     // result equals build(g, settings) bit for bit (leaves, pool, lists; docs/frames.md). records
     // becomes the result's. Returns nothing when the change cannot be confined and the caller must
     // build in full: adaptive, dependency, unculled or apron-sharing builds; an intersect or mesh
-    // edit among the changed ones; a domain, band or saturation that the change moved.
+    // edit among the changed ones; a domain, band or saturation that the change moved. The result's
+    // report figures (levels, work, memory) are before's; leaf_count, device_ms, host_ms and
+    // leaves_built (the leaves built again) are its own.
     std::optional<GeometryBuild> rebuild(const Geometry& g, const BuildSettings& settings, const GeometryBuild& before,
                                          std::vector<SdfBrick>& records, const EditChange& change,
                                          measure::Scheduler& scheduler, const std::vector<SdfEdit>* prepared = nullptr);

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "cl/launch.h"
 #include "construct/build_parts.h"
@@ -199,7 +200,8 @@ void splice(detail::BuildInputs& in, const GeometryBuild& before, const ocl::Buf
     const auto segment_count = static_cast<cl_uint>(segments.size() - 1);
     ocl::set_args(k.counts.get(), *before.leaves, fresh, runs, segment_count, static_cast<cl_uint>(n), counts);
     scheduler.launch(measure::Stage::splice, -1, k.counts.get(), detail::round_up(n, detail::kGroup1d), detail::kGroup1d);
-    in.scan.exclusive(counts, offsets, n, scheduler, measure::Stage::splice, -1);
+    if (in.scan.exclusive(counts, offsets, n, scheduler, measure::Stage::splice, -1) != entries)
+        throw std::logic_error("splice: the device's list entries differ from the host's records");
     out.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(detail::allocate<SdfBrick>(device_, n, "the leaves"));
     out.leaf_edit_indices =
         std::make_unique<ocl::Buffer<cl_uint>>(detail::allocate<cl_uint>(device_, entries, "the leaves' edit lists"));

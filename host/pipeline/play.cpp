@@ -1,8 +1,8 @@
 #include "pipeline/play.h"
 
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <optional>
 
@@ -56,7 +56,7 @@ void add_stage_times(FrameRecord& f, const measure::Capture& capture) {
 // changed, as they are; the old slots that went).
 class FrameEdits {
 public:
-    FrameEdits(const EditLog* log, std::size_t geometries) : log_(log), touched(geometries), changes(geometries) {}
+    FrameEdits(const EditLog* log, std::size_t geometries) : touched(geometries), changes(geometries), log_(log) {}
     // Returns the operations applied.
     std::size_t apply(int frame, Scene& scene) {
         std::fill(touched.begin(), touched.end(), false);
