@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Fuzzes what reads untrusted files (tests/fuzz/: libFuzzer + ASan + UBSan, clang-14), each target for
 # a bounded time: tools/fuzz.sh [SECONDS] [TARGET...] (default 60 s each; targets scene_reader,
-# mesh_reader, sweep_spec, report_reader). Seeds: scene_reader the shipped scenes and the docs' JSON
+# mesh_reader, sweep_spec, report_reader, edit_log). Seeds: scene_reader the shipped scenes and the docs' JSON
 # examples; mesh_reader the shipped meshes and tests/fuzz/seeds/mesh_reader/; sweep_spec the docs'
-# JSON examples and tests/fuzz/seeds/sweep_spec/; report_reader tests/fuzz/seeds/report_reader/.
+# JSON examples and tests/fuzz/seeds/sweep_spec/; report_reader tests/fuzz/seeds/report_reader/;
+# edit_log the docs' JSON examples and tests/fuzz/seeds/edit_log/.
 # The checked-in regressions of a target (tests/fuzz/regressions/TARGET/) run first and must pass.
 # Exits non-zero on any finding; the input is left in build/fuzz/findings/TARGET/ (add it to the
 # target's regressions once fixed). A fixed seed makes a run repeatable on one machine.
@@ -12,7 +13,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_reader mesh_reader sweep_spec report_reader)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_reader mesh_reader sweep_spec report_reader edit_log)
 build=build/fuzz
 cmake -S tests/fuzz -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 >/dev/null
 cmake --build "$build" -j"$(nproc)" >/dev/null
@@ -29,7 +30,7 @@ seed() {
     scene_reader) cp scenes/*.json "$dir"/; docs_json "$dir" ;;
     mesh_reader)
       for m in scenes/*.obj; do { printf 'o'; cat "$m"; } > "$dir/$(basename "$m")"; done ;;
-    sweep_spec) docs_json "$dir" ;;
+    sweep_spec | edit_log) docs_json "$dir" ;;
   esac
   if [ -d "tests/fuzz/seeds/$target" ]; then cp tests/fuzz/seeds/"$target"/* "$dir"/; fi
 }
