@@ -19,11 +19,11 @@ using json = nlohmann::json;
 
 constexpr int kMaxLogFrame = 1 << 30;
 
-// One line's place in messages: "origin:LINE".
+// One line's place in messages: "origin:LINE". A field's name is echoed escaped (it may be any key).
 struct Line {
     std::string where;
     [[noreturn]] void fail(std::string_view field, const std::string& what) const {
-        throw InputError(fmt::format("{}: /{}: {}", where, field, what));
+        throw InputError(fmt::format("{}: /{}: {}", where, escaped(field), what));
     }
 };
 

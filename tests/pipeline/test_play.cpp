@@ -177,10 +177,12 @@ TEST(SceneEditLog, RefusalsNameTheLineAndTheField) {
         {R"({"frame": 0, "op": "remove", "geometry": 1, "index": 0, "extra": 1})", "log:1: /extra: unknown field"},
         {R"({"frame": 0, "op": "remove", "geometry": 1, "index": 0)", "log:1"},
         {"[1, 2]", "log:1: expected an operation object"},
+        {"{\"frame\": 0, \"f\x7f\": 1}", "log:1: /f\\x7f: unknown field"},  // a key's bytes echoed escaped
     };
     for (const auto& [text, message] : cases) {
         const std::string got = test::input_error_of([&] { parse_edit_log(text, "log", scene); });
         EXPECT_NE(got.find(message), std::string::npos) << text << "\n  got: " << got;
+        for (char c : got) EXPECT_TRUE(c >= 0x20 && c < 0x7f) << got;
     }
     // A valid log: operations in order, edits in the scene's terms.
     const EditLog ok = parse_edit_log(
