@@ -1,6 +1,5 @@
 #include "scene/edit_log.h"
 
-#include <cmath>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -8,6 +7,7 @@
 #include "core/errors.h"
 #include "core/files.h"
 #include "core/quote.h"
+#include "scene/json_node.h"
 #include "scene/scene_json.h"
 #include "sdf_types.h"
 
@@ -15,85 +15,69 @@ namespace sdfbrick {
 
 namespace {
 
-using json = nlohmann::json;
+using detail::Node;
 
-constexpr int kMaxLogFrame = 1 << 30;
+constexpr int kMaxLogFrame = 1000000;
 
-// One line's place in messages: "origin:LINE". A field's name is echoed escaped (it may be any key).
-struct Line {
-    std::string where;
-    [[noreturn]] void fail(std::string_view field, const std::string& what) const {
-        throw InputError(fmt::format("{}: /{}: {}", where, escaped(field), what));
-    }
-};
-
-std::string type_of(const json& v) { return v.is_null() ? "null" : v.type_name(); }
-
-// A non-negative integer field no larger than hi.
-std::size_t count_field(const Line& l, const json& j, std::string_view key, double hi) {
-    const auto it = j.find(key);
-    if (it == j.end()) l.fail(key, "missing field");
-    if (!it->is_number()) l.fail(key, "expected an integer, got " + type_of(*it));
-    const double v = it->get<double>();
-    if (!(v >= 0.0) || v != std::floor(v) || v > hi) l.fail(key, fmt::format("must be an integer in [0, {:g}], got {}", hi, v));
-    return static_cast<std::size_t>(v);
-}
-
-std::size_t geometry_field(const Line& l, const json& j, const Scene& scene) {
-    const auto it = j.find("geometry");
-    if (it == j.end()) l.fail("geometry", "missing field");
-    if (it->is_string()) {
-        const std::string name = it->get<std::string>();
+std::size_t geometry_field(const Node& n, const Scene& scene) {
+    if (n.value().is_string()) {
+        const std::string name = n.string();
         for (std::size_t g = 0; g < scene.geometries.size(); ++g)
             if (scene.geometries[g].name == name) return g;
-        l.fail("geometry", fmt::format("no geometry named {}", quoted_input(name)));
+        n.fail(fmt::format("no geometry named {}", quoted_input(name)));
     }
-    if (!it->is_number()) l.fail("geometry", "expected a name or an index, got " + type_of(*it));
-    const std::size_t g = count_field(l, j, "geometry", 1e9);
-    if (g >= scene.geometries.size())
-        l.fail("geometry", fmt::format("no geometry {} (the scene has {})", g, scene.geometries.size()));
+    if (!n.value().is_number()) n.fail("expected a name or an index");
+    const auto g = static_cast<std::size_t>(n.integer(0, kMaxLogFrame));
+    if (g >= scene.geometries.size()) n.fail(fmt::format("no geometry {} (the scene has {})", g, scene.geometries.size()));
     return g;
 }
 
-EditOp::Kind kind_field(const Line& l, const json& j) {
-    const auto it = j.find("op");
-    if (it == j.end()) l.fail("op", "missing field");
-    if (!it->is_string()) l.fail("op", "expected a string, got " + type_of(*it));
-    const std::string s = it->get<std::string>();
+EditOp::Kind kind_field(const Node& n) {
+    const std::string s = n.string();
     for (EditOp::Kind k : {EditOp::Kind::append, EditOp::Kind::remove, EditOp::Kind::replace})
         if (s == to_string(k)) return k;
-    l.fail("op", fmt::format("unknown operation {} (known: append, remove, replace)", quoted_input(s)));
+    n.fail(fmt::format("unknown operation {} (known: append, remove, replace)", quoted_input(s)));
 }
 
-std::vector<Edit> edits_field(const Line& l, const json& j, EditOp::Kind kind) {
-    const bool one = j.contains("edit"), many = j.contains("edits");
+std::vector<Edit> edits_field(const Node& n, EditOp::Kind kind, std::string_view origin) {
+    const bool one = n.has("edit"), many = n.has("edits");
     if (kind == EditOp::Kind::remove) {
-        if (one || many) l.fail(one ? "edit" : "edits", "remove takes no edit");
+        if (one || many) n[one ? "edit" : "edits"].fail("remove takes no edit");
         return {};
     }
-    if (one == many) l.fail("edit", "needs exactly one of \"edit\" and \"edits\"");
-    if (kind == EditOp::Kind::replace && many) l.fail("edits", "replace takes one \"edit\"");
-    if (one) return {edit_from_json(j["edit"], l.where, "/edit")};
-    const json& a = j["edits"];
-    if (!a.is_array() || a.empty()) l.fail("edits", "expected a non-empty array of edits");
+    if (one == many) throw InputError(fmt::format("{}: /edit: needs exactly one of \"edit\" and \"edits\"", origin));
+    if (kind == EditOp::Kind::replace && many) n["edits"].fail("replace takes one \"edit\"");
+    if (one) return {edit_from_json(n["edit"].value(), origin, "/edit")};
+    const Node list = n["edits"];
+    const std::size_t count = list.array_size();
+    if (count == 0) list.fail("expected a non-empty array of edits");
     std::vector<Edit> out;
-    for (std::size_t i = 0; i < a.size(); ++i) out.push_back(edit_from_json(a[i], l.where, fmt::format("/edits/{}", i)));
+    for (std::size_t i = 0; i < count; ++i) out.push_back(edit_from_json(list.at(i).value(), origin, list.at(i).path()));
     return out;
 }
 
-EditOp read_op(const Line& l, const json& j, const Scene& scene) {
-    if (!j.is_object()) throw InputError(fmt::format("{}: expected an operation object, got {}", l.where, type_of(j)));
-    for (const auto& [key, v] : j.items())
-        if (key != "frame" && key != "op" && key != "geometry" && key != "index" && key != "edit" && key != "edits")
-            l.fail(key, "unknown field (known: frame, op, geometry, index, edit, edits)");
+EditOp read_op(const Node& n, const Scene& scene, std::string_view origin) {
+    n.expect_object({"frame", "op", "geometry", "index", "edit", "edits"});
     EditOp op;
-    op.frame = static_cast<int>(count_field(l, j, "frame", kMaxLogFrame));
-    op.kind = kind_field(l, j);
-    op.geometry = geometry_field(l, j, scene);
-    if (op.kind != EditOp::Kind::append) op.index = count_field(l, j, "index", SDF_MAX_EDITS);
-    else if (j.contains("index")) l.fail("index", "append takes no index (edits go to the end)");
-    op.edits = edits_field(l, j, op.kind);
+    op.frame = n["frame"].integer(0, kMaxLogFrame);
+    op.kind = kind_field(n["op"]);
+    op.geometry = geometry_field(n["geometry"], scene);
+    if (op.kind != EditOp::Kind::append) op.index = static_cast<std::size_t>(n["index"].integer(0, SDF_MAX_EDITS));
+    else if (n.has("index")) n["index"].fail("append takes no index (edits go to the end)");
+    op.edits = edits_field(n, op.kind, origin);
     return op;
+}
+
+// The operation against its geometry's edit count as the earlier operations leave it (size), which
+// it then updates.
+void check_size(const Node& n, const EditOp& op, const std::string& name, std::size_t& size) {
+    if (op.kind != EditOp::Kind::append && op.index >= size)
+        n["index"].fail(fmt::format("no edit {} in geometry {} (it has {} there)", op.index, quoted_input(name), size));
+    if (op.kind == EditOp::Kind::remove && size == 1)
+        n["index"].fail(fmt::format("removes the last edit of geometry {}: a geometry keeps one", quoted_input(name)));
+    if (op.kind == EditOp::Kind::append && size + op.edits.size() > SDF_MAX_EDITS)
+        n["edits"].fail(fmt::format("geometry {} would hold more than {} edits", quoted_input(name), SDF_MAX_EDITS));
+    size = op.kind == EditOp::Kind::append ? size + op.edits.size() : op.kind == EditOp::Kind::remove ? size - 1 : size;
 }
 
 }  // namespace
@@ -119,20 +103,16 @@ EditLog parse_edit_log(std::string_view text, std::string_view origin, const Sce
         start = end + 1;
         ++line;
         if (body.find_first_not_of(" \t\r") == std::string_view::npos) continue;
-        const Line l{fmt::format("{}:{}", escaped(origin, 160), line)};
-        EditOp op = read_op(l, parse_json_text(body, l.where), scene);
+        const std::string where = fmt::format("{}:{}", escaped(origin, 160), line);
+        const nlohmann::json j = parse_json_text(body, where);
+        if (!j.is_object())
+            throw InputError(fmt::format("{}: expected an operation object, got {}", where, j.is_null() ? "null" : j.type_name()));
+        const Node n(j, "", where);
+        EditOp op = read_op(n, scene, where);
         op.line = line;
         if (!log.ops.empty() && op.frame < log.ops.back().frame)
-            l.fail("frame", fmt::format("frames must not decrease: {} after {}", op.frame, log.ops.back().frame));
-        std::size_t& n = sizes[op.geometry];
-        const std::string& name = scene.geometries[op.geometry].name;
-        if (op.kind != EditOp::Kind::append && op.index >= n)
-            l.fail("index", fmt::format("no edit {} in geometry {} (it has {} there)", op.index, quoted_input(name), n));
-        if (op.kind == EditOp::Kind::remove && n == 1)
-            l.fail("index", fmt::format("removes the last edit of geometry {}: a geometry keeps one", quoted_input(name)));
-        if (op.kind == EditOp::Kind::append && n + op.edits.size() > SDF_MAX_EDITS)
-            l.fail("edits", fmt::format("geometry {} would hold more than {} edits", quoted_input(name), SDF_MAX_EDITS));
-        n = op.kind == EditOp::Kind::append ? n + op.edits.size() : op.kind == EditOp::Kind::remove ? n - 1 : n;
+            n["frame"].fail(fmt::format("frames must not decrease: {} after {}", op.frame, log.ops.back().frame));
+        check_size(n, op, scene.geometries[op.geometry].name, sizes[op.geometry]);
         log.ops.push_back(std::move(op));
     }
     return log;
