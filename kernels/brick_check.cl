@@ -8,7 +8,11 @@
  * kink of the field far from the surface must not force a refinement). A check point fails when
  * |interpolated - field| > tolerance there, or when
  * the two differ in sign and the field is at least tolerance / 2 deep (a thin feature that the
- * samples step over). Writes the brick's worst error and whether it passed. Compile-time: SAMPLES,
+ * samples step over). Check points half a voxel apart cannot see a feature narrower than that, so
+ * a brick whose list holds an edit thinner than its voxel (sdf_feature_size) whose surface comes
+ * within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the window of the brick's centre fails
+ * too, whatever its points show. Every edit the cull drops fails that distance test, so culling on and
+ * off agree. Writes the brick's worst error and whether it passed. Compile-time: SAMPLES,
  * APRON, FORMAT as brick_evaluate. */
 #include "sdf_build.h"
 
@@ -30,7 +34,7 @@ inline float check_field(__global const SdfEdit* edits, __global const float* me
 
 __kernel void brick_check(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z,
-                          float voxel, float clamp_c, float band, float quant_scale, float dequant, float tolerance, float window,
+                          float voxel, float clamp_c, float band, float quant_scale, float dequant, float tolerance, float window, float cell, float radius,
                           __global float* errors, __global uint* passed, __local float* stored, __local float* worst) {
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
@@ -51,6 +55,12 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     barrier(CLK_LOCAL_MEM_FENCE);
     float mine = 0.0f;
     int lost = 0;
+    const float3 centre = sdf_cell_centre(origin, cell, (int3)(b.coord[0], b.coord[1], b.coord[2]));
+    for (uint j = lid; j < b.edit_count; j += wg) {
+        const SdfEdit e = edits[list[j]];
+        const SdfPrepared pe = sdf_prepare(e);
+        lost |= sdf_feature_size(e, meshes) < voxel && fabs(sdf_prepared_value(&pe, meshes, centre)) < radius + window;
+    }
     for (uint t = lid; t < CHECK_COUNT; t += wg) {
         const int3 h = (int3)(t % CHECK_AXIS, (t / CHECK_AXIS) % CHECK_AXIS, t / (CHECK_AXIS * CHECK_AXIS));
         if (((h.x | h.y | h.z) & 1) == 0) continue; /* a sample itself */

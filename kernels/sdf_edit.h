@@ -173,6 +173,30 @@ inline sdf_real sdf_mesh_lanes(__global const float* meshes, uint index, sdf_rea
 #endif
 }
 
+/* The thinnest part of an edit's primitive (geometry units): twice its smallest radius or half
+ * extent (a cone: the larger of its end radii against its half height; a Menger sponge: its
+ * smallest hole; a mesh: two cells of its distance grid, the finest detail its field holds). A
+ * feature that thin, added or cut away, lies between samples spaced further apart, so a brick whose
+ * list holds such an edit cannot be a leaf at a voxel above this (stage check). */
+inline float sdf_feature_size(SdfEdit e, __global const float* meshes) {
+    const float* prm = e.params;
+    float f;
+    switch (e.primitive) {
+        case SDF_PRIM_SPHERE: f = prm[0]; break;
+        case SDF_PRIM_BOX:
+        case SDF_PRIM_ROUND_BOX: f = fmin(fmin(prm[0], prm[1]), prm[2]); break;
+        case SDF_PRIM_TORUS: f = prm[1]; break;
+        case SDF_PRIM_CAPSULE: f = prm[1]; break;
+        case SDF_PRIM_CYLINDER: f = fmin(prm[0], prm[1]); break;
+        case SDF_PRIM_CONE: f = fmin(prm[0], fmax(prm[1], prm[2])); break;
+        case SDF_PRIM_ELLIPSOID: f = fmin(fmin(prm[0], prm[1]), prm[2]); break;
+        case SDF_PRIM_MENGER: f = prm[0] / pown(3.0f, (int)prm[1]); break;
+        case SDF_PRIM_MESH: f = ((__global const SdfMeshGrid*)meshes)[(uint)prm[3]].cell; break;
+        default: f = 0.0f; break;
+    }
+    return 2.0f * f * e.transform.scale;
+}
+
 /* An edit prepared for evaluation (kernel side only, 64 bytes like SdfEdit): the reciprocals that
  * evaluation multiplies by, computed once per edit instead of dividing at every point.
  *   value(p) = primitive((R^-1 (p - t)) * (1/s)) * (s/L)         (R skipped when it is the identity)

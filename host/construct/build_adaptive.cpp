@@ -22,10 +22,15 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
                     allocate<cl_uint>(in_.device, n, "the check results"),
                     nullptr};
     const float band = std::ldexp(in_.plan.band, in_.plan.shift(level));
+    const auto voxel = static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level)));
+    // Errors count within one voxel of this level of the surface (at least the finest band): every
+    // surface point then has check points on both sides within the window.
+    const float window = std::max(in_.plan.band, voxel);
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), in_.origin.x, in_.origin.y,
-                  in_.origin.z, static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level))),
-                  in_.plan.level_clamp[level], band, layout.quantise_scale(band), layout.dequantise_scale(band),
-                  in_.plan.tolerance, in_.plan.band, out.errors, out.passed,
+                  in_.origin.z, voxel, in_.plan.level_clamp[level], band, layout.quantise_scale(band),
+                  layout.dequantise_scale(band), in_.plan.tolerance, window,
+                  static_cast<float>(in_.plan.domain.cell_size(level)), in_.plan.cull_radius(level, layout.apron()),
+                  out.errors, out.passed,
                   ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)},
                   ocl::LocalMemory{group * sizeof(float)});
     in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);

@@ -120,7 +120,7 @@ std::vector<PointSample> sample_points(const Scene& scene, std::span<const HostB
             // world distance = s F(R^T (p - t) / s): its gradient is R grad F.
             s.gradient = obj.transform.rotation * at->gradient;
             s.object = static_cast<int>(o);
-            s.saturated = std::abs(at->distance) >= b.band();
+            s.saturated = std::abs(at->distance) >= at->band;
         }
     }
     return out;

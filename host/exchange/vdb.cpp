@@ -52,25 +52,72 @@ void require_vdb(VdbFormat f) {
                                  open ? "-DSDFBRICK_WITH_OPENVDB" : "-DSDFBRICK_WITH_NANOVDB", open ? ".vdb" : ".nvdb"));
 }
 
-void for_each_level_set_voxel(const HostBricks& bricks, double scale, const std::function<void(const VdbVoxel&)>& visit) {
+namespace {
+
+// A finest-level brick: its interior samples, and its apron samples on voxels that no leaf's cell
+// holds (the first brick that has one), each voxel once.
+void finest_brick_voxels(const HostBricks& bricks, std::size_t b, float s,
+                         std::unordered_set<glm::ivec3, CoordHash>& apron_taken,
+                         const std::function<void(const VdbVoxel&)>& visit) {
     const int n = bricks.samples(), a = bricks.apron(), interior = bricks.interior();
+    const glm::ivec3 first = bricks.coord(b) * interior - a;
+    for (int k = 0; k < n; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const VdbVoxel v{first + glm::ivec3(i, j, k), bricks.sample(b, i, j, k) * s};
+                const bool owned =
+                    i >= a && i < a + interior && j >= a && j < a + interior && k >= a && k < a + interior;
+                if (owned) {
+                    visit(v);
+                    continue;
+                }
+                const glm::dvec3 cell = glm::floor(glm::dvec3(v.ijk) / static_cast<double>(interior));
+                if (!bricks.covering(glm::ivec3(cell)) && apron_taken.insert(v.ijk).second) visit(v);
+            }
+}
+
+// A coarser leaf (adaptive builds) on the finest voxel lattice: every finest voxel inside its cell
+// whose trilinear value lies within the finest band. A coarse voxel whose 27 neighbouring samples
+// are all at least the band deep on one side holds no such voxel (trilinear values stay within
+// their corners' range) and is skipped whole.
+void coarse_brick_voxels(const HostBricks& bricks, std::size_t b, float s,
+                         const std::function<void(const VdbVoxel&)>& visit) {
+    const int a = bricks.apron(), interior = bricks.interior(), fine = 1 << bricks.shift(b);
+    const float band = static_cast<float>(bricks.band());
+    const glm::ivec3 base = bricks.coord(b) * interior;  // first interior voxel, this level's lattice
+    for (int k = 0; k < interior; ++k)
+        for (int j = 0; j < interior; ++j)
+            for (int i = 0; i < interior; ++i) {
+                float lo = INFINITY, hi = -INFINITY;
+                for (int n = 0; n < 27; ++n) {
+                    const float v = bricks.sample(b, a + i + n % 3 - 1, a + j + n / 3 % 3 - 1, a + k + n / 9 - 1);
+                    lo = std::min(lo, v);
+                    hi = std::max(hi, v);
+                }
+                if (lo >= band || hi <= -band) continue;
+                const glm::ivec3 first = (base + glm::ivec3(i, j, k)) * fine;
+                for (int z = 0; z < fine; ++z)
+                    for (int y = 0; y < fine; ++y)
+                        for (int x = 0; x < fine; ++x) {
+                            const glm::ivec3 ijk = first + glm::ivec3(x, y, z);
+                            const glm::dvec3 p =
+                                bricks.origin() + (glm::dvec3(ijk) + 0.5) * bricks.voxel();
+                            const std::optional<BrickSample> at = bricks.at(p);
+                            if (at && std::abs(at->distance) < band) visit({ijk, static_cast<float>(at->distance) * s});
+                        }
+            }
+}
+
+}  // namespace
+
+void for_each_level_set_voxel(const HostBricks& bricks, double scale, const std::function<void(const VdbVoxel&)>& visit) {
     const float s = static_cast<float>(scale);
     std::unordered_set<glm::ivec3, CoordHash> apron_taken;  // apron voxels that no brick owns, once
     for (std::size_t b = 0; b < bricks.brick_count(); ++b) {
-        const glm::ivec3 first = bricks.coord(b) * interior - a;
-        for (int k = 0; k < n; ++k)
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) {
-                    const VdbVoxel v{first + glm::ivec3(i, j, k), bricks.sample(b, i, j, k) * s};
-                    const bool owned = i >= a && i < a + interior && j >= a && j < a + interior && k >= a &&
-                                       k < a + interior;
-                    if (owned) {
-                        visit(v);
-                        continue;
-                    }
-                    const glm::dvec3 cell = glm::floor(glm::dvec3(v.ijk) / static_cast<double>(interior));
-                    if (!bricks.find(glm::ivec3(cell)) && apron_taken.insert(v.ijk).second) visit(v);
-                }
+        if (bricks.shift(b) == 0)
+            finest_brick_voxels(bricks, b, s, apron_taken, visit);
+        else
+            coarse_brick_voxels(bricks, b, s, visit);
     }
 }
 

@@ -44,9 +44,11 @@ struct IndexToWorld {
     glm::dvec3 origin{0.0};
 };
 
-// Visits the voxels of a geometry's brick set, distances times scale, in brick (Morton) order: every
-// brick's interior samples, and its apron samples on voxels no brick's interior holds (the first
-// brick that has one), each voxel once. Streams: nothing the size of the set is held.
+// Visits the voxels of a geometry's brick set on its finest voxel lattice, distances times scale, in
+// brick (Morton) order: every finest brick's interior samples, and its apron samples on voxels no
+// leaf's cell holds (the first brick that has one), each voxel once; a coarser leaf of an adaptive
+// build gives the finest voxels in its cell where its trilinear field is within the finest band.
+// Streams: nothing the size of the set is held.
 void for_each_level_set_voxel(const HostBricks& bricks, double scale, const std::function<void(const VdbVoxel&)>& visit);
 // Voxel (i, j, k) of the geometry lattice sits at origin + (ijk + 0.5) * voxel in the geometry frame.
 IndexToWorld index_to_world(const HostBricks& bricks, const Transform& object);

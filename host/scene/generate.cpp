@@ -15,13 +15,15 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 23> kNames = {
+constexpr std::array<std::string_view, 27> kNames = {
     "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt", "rubble",
     // The stability atlas's hard cases (docs/stability.md), one failure mode each.
     "stability/grazing_plane", "stability/grazing_cylinder", "stability/sub_voxel", "stability/blend_tiny",
     "stability/blend_huge", "stability/ellipsoid", "stability/menger6", "stability/instance_stack",
     "stability/far", "stability/camera_inside", "stability/camera_on_face", "stability/face_rays",
-    "stability/edits_65536", "stability/instances_10000"};
+    "stability/edits_65536", "stability/instances_10000",
+    // Adaptive builds' hard cases: large flat regions beside small detail.
+    "stability/ground_trees", "stability/engraved_slab", "stability/grooved_board", "stability/steep_blends"};
 
 // Files keep 4 decimals: readable, and what is generated is exactly what is loaded back.
 double r4(double v) { return std::round(v * 1e4) / 1e4; }
@@ -542,6 +544,109 @@ Scene instances_10000(Rng& rng) {
     return s;
 }
 
+
+// A 16 x 0.2 x 16 ground slab with smooth bumps and 400 instances of a small blended tree (trunk,
+// crown of three blended spheres) standing on it: a large, slowly curving surface that coarse leaves
+// cover, beside many small smooth shapes.
+Scene ground_trees(Rng& rng) {
+    Geometry ground;
+    ground.edits.push_back(make_edit(Primitive::Box, {8.0, 0.1, 8.0, 0}, {0.0, -0.1, 0.0}));
+    for (int i = 0; i < 40; ++i) {
+        const glm::dvec3 p{rng.uniform(-7.0, 7.0), -0.6, rng.uniform(-7.0, 7.0)};
+        Edit bump = make_edit(Primitive::Sphere, {rng.uniform(0.5, 1.2), 0, 0, 0}, p);
+        bump.blend = r4(rng.uniform(0.3, 0.6));
+        ground.edits.push_back(bump);
+    }
+    ground.name = "ground";
+    Geometry tree;
+    tree.name = "tree";
+    tree.edits.push_back(make_edit(Primitive::Cylinder, {0.12, 0.025, 0, 0}, {0.0, 0.12, 0.0}));
+    for (int i = 0; i < 3; ++i) {
+        Edit crown = make_edit(Primitive::Sphere, {0.07 - 0.015 * i, 0, 0, 0}, {0.02 * (i - 1), 0.25 + 0.07 * i, 0.0});
+        crown.blend = 0.04;
+        tree.edits.push_back(crown);
+    }
+    Scene s = finish("ground_trees", 0.0, ground, orbit({0.0, 0.0, 0.0}, 14.0, 30.0, 25.0));
+    s.geometries.push_back(tree);
+    for (int i = 0; i < 400; ++i) {
+        Transform t;
+        t.scale = r4(rng.uniform(0.7, 1.3));
+        t.rotation = unit(glm::angleAxis(rng.uniform(0.0, 6.28), glm::dvec3(0.0, 1.0, 0.0)));
+        t.translation = r4(glm::dvec3(rng.uniform(-7.5, 7.5), -0.02, rng.uniform(-7.5, 7.5)));
+        s.objects.push_back(Object{fmt::format("tree{}", i), 1, t});
+    }
+    return s;
+}
+
+// A 6 x 0.5 x 4 rounded slab engraved with 3,000 small hard box cuts over its left half: dense hard
+// detail that needs the finest bricks beside a plain top and a rounded edge that coarse ones hold.
+Scene engraved_slab(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::RoundBox, {3.0, 0.25, 2.0, 0.1}, {0.0, 0.0, 0.0}));
+    for (int i = 0; i < 3000; ++i) {
+        const std::array<double, 4> size{rng.uniform(0.01, 0.04), rng.uniform(0.01, 0.03), rng.uniform(0.01, 0.04), 0};
+        const glm::dvec3 at{rng.uniform(-2.8, -0.2), 0.25, rng.uniform(-1.8, 1.8)};
+        g.edits.push_back(subtracted(make_edit(Primitive::Box, size, at)));
+    }
+    return finish("engraved_slab", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.0, 20.0, 35.0));
+}
+
+// A board with grooves cut along both axes and 32 pieces of two kinds (a blended stack of cylinder,
+// torus and sphere, and a rounded block) standing on its squares: flat faces in coarse leaves next
+// to narrow hard grooves and small smooth shapes.
+Scene grooved_board(Rng& rng) {
+    Geometry board;
+    board.name = "board";
+    board.edits.push_back(make_edit(Primitive::Box, {4.0, 0.15, 4.0, 0}, {0.0, -0.15, 0.0}));
+    for (int i = 1; i < 8; ++i) {
+        const double at = -4.0 + i;
+        board.edits.push_back(subtracted(make_edit(Primitive::Box, {4.2, 0.02, 0.015, 0}, {0.0, 0.0, at})));
+        board.edits.push_back(subtracted(make_edit(Primitive::Box, {0.015, 0.02, 4.2, 0}, {at, 0.0, 0.0})));
+    }
+    Geometry pawn;
+    pawn.name = "pawn";
+    pawn.edits.push_back(make_edit(Primitive::Cylinder, {0.04, 0.3, 0, 0}, {0.0, 0.04, 0.0}));
+    Edit body = make_edit(Primitive::Cylinder, {0.25, 0.12, 0, 0}, {0.0, 0.3, 0.0});
+    body.blend = 0.1;
+    pawn.edits.push_back(body);
+    Edit collar = make_edit(Primitive::Torus, {0.15, 0.04, 0, 0}, {0.0, 0.55, 0.0});
+    collar.blend = 0.05;
+    pawn.edits.push_back(collar);
+    Edit head = make_edit(Primitive::Sphere, {0.16, 0, 0, 0}, {0.0, 0.72, 0.0});
+    head.blend = 0.06;
+    pawn.edits.push_back(head);
+    Geometry block;
+    block.name = "block";
+    block.edits.push_back(make_edit(Primitive::RoundBox, {0.3, 0.3, 0.3, 0.05}, {0.0, 0.3, 0.0}));
+    block.edits.push_back(subtracted(make_edit(Primitive::Cylinder, {0.4, 0.12, 0, 0}, {0.0, 0.4, 0.0})));
+    Scene s = finish("grooved_board", 0.0, board, orbit({0.0, 0.0, 0.0}, 11.0, 30.0, 35.0));
+    s.geometries.push_back(pawn);
+    s.geometries.push_back(block);
+    for (int i = 0; i < 32; ++i) {
+        const int row = i < 16 ? i / 8 : 4 + i / 8, col = i % 8;
+        Transform t;
+        t.rotation = unit(glm::angleAxis(rng.uniform(0.0, 6.28), glm::dvec3(0.0, 1.0, 0.0)));
+        t.translation = glm::dvec3(col - 3.5, 0.0, row - 3.5);
+        s.objects.push_back(Object{fmt::format("piece{}", i), (row == 1 || row == 6) ? 1u : 2u, t});
+    }
+    return s;
+}
+
+// A flat 6 x 6 plate with 60 spheres blended into it by radii from 0.005 (a crease far below a
+// voxel) to 0.3: steep and gentle blends side by side with plain flat faces.
+Scene steep_blends(Rng& rng) {
+    Geometry g;
+    g.edits.push_back(make_edit(Primitive::Box, {3.0, 0.1, 3.0, 0}, {0.0, -0.1, 0.0}));
+    for (int i = 0; i < 60; ++i) {
+        const double r = rng.uniform(0.05, 0.3);
+        const glm::dvec3 p{rng.uniform(-2.7, 2.7), rng.uniform(-0.5, 0.8) * r, rng.uniform(-2.7, 2.7)};
+        Edit e = make_edit(Primitive::Sphere, {r, 0, 0, 0}, p);
+        e.blend = r4(i % 3 == 0 ? 0.005 : rng.uniform(0.02, 0.3));
+        g.edits.push_back(e);
+    }
+    return finish("steep_blends", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.0, 25.0, 30.0));
+}
+
 }  // namespace
 
 std::span<const std::string_view> generated_scene_names() { return kNames; }
@@ -551,7 +656,7 @@ Scene generate_scene(std::string_view name, std::uint64_t seed) {
     static constexpr std::array<Generator, kNames.size()> kGenerators = {
         spheres, drops, cubes, rain, fractal, board, thin, sculpt, rubble, grazing_plane, grazing_cylinder, sub_voxel,
         blend_tiny, blend_huge, ellipsoid, menger6, instance_stack, far, camera_inside, camera_on_face, face_rays,
-        edits_65536, instances_10000};
+        edits_65536, instances_10000, ground_trees, engraved_slab, grooved_board, steep_blends};
     const auto it = std::find(kNames.begin(), kNames.end(), name);
     if (it == kNames.end())
         throw InputError(fmt::format("unknown scene \"{}\" (known: {})", name, fmt::join(kNames, ", ")));
