@@ -12,7 +12,8 @@
  * a brick whose list holds an edit thinner than its voxel (sdf_feature_size) whose surface comes
  * within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the window of the brick's centre fails
  * too, whatever its points show. Every edit the cull drops fails that distance test, so culling on and
- * off agree. Writes the brick's worst error and whether it passed. Compile-time: SAMPLES,
+ * off agree. A work-group stops at the first round of check points in which one fails. Writes the
+ * brick's worst error (INFINITY when it failed) and whether it passed. Compile-time: SAMPLES,
  * APRON, FORMAT as brick_evaluate. */
 #include "sdf_build.h"
 
@@ -32,61 +33,106 @@ inline float check_field(__global const SdfEdit* edits, __global const float* me
     return f;
 }
 
+/* Whether the brick's list reaches an edit thinner than its voxel (see above). */
+inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float* meshes, __global const uint* list,
+                             uint n, float3 centre, float voxel, float reach, uint lid, uint wg) {
+    int thin = 0;
+    for (uint j = lid; j < n; j += wg) {
+        const SdfEdit e = edits[list[j]];
+        const SdfPrepared pe = sdf_prepare(e);
+        thin |= sdf_feature_size(e, meshes) < voxel && fabs(sdf_prepared_value(&pe, meshes, centre)) < reach;
+    }
+    return thin;
+}
+
+/* The error at check point t (half-voxel lattice index) of the brick whose samples are `stored` and
+ * `field` (F clamped to the band); negative when the sign test fails there. */
+inline float check_point(__global const SdfEdit* edits, __global const float* meshes, __global const uint* list, uint n,
+                         __local const float* stored, __local const float* field, int3 h, float3 origin, int3 first,
+                         float voxel, float clamp_c, float band, float tolerance, float window, float far) {
+    const int3 lo = h >> 1, hi = (h + 1) >> 1;
+    float sum = 0.0f, deepest = 0.0f;
+    for (int c8 = 0; c8 < 8; ++c8) {
+        const int3 c = (int3)((c8 & 1) ? hi.x : lo.x, (c8 & 2) ? hi.y : lo.y, (c8 & 4) ? hi.z : lo.z);
+        const int at = c.x + SAMPLES * (c.y + SAMPLES * c.z);
+        sum += stored[at];
+        deepest = fabs(field[at]) > fabs(deepest) ? field[at] : deepest;
+    }
+    const float interpolated = sum * 0.125f;
+    /* F is 1-Lipschitz and the point lies sqrt(odd axes) / 2 voxels from each of its samples: where
+     * one sample is deep enough, |F| here is at least `far`, so F clamped to the window is +-window
+     * with that sample's sign and the sign test's depth is met: the list need not be folded here. */
+    const int odd = (h.x & 1) + (h.y & 1) + (h.z & 1);
+    const float reach = (odd == 1 ? 0.5f : odd == 2 ? 0.70710678f : 0.8660254f) * voxel;
+    float exact;
+    if (fabs(deepest) - reach >= far) {
+        exact = copysign(far, deepest);
+    } else {
+        const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
+        exact = fmin(fmax(check_field(edits, meshes, list, n, p, clamp_c), -band), band);
+    }
+    const float error = fabs(fmin(fmax(interpolated, -window), window) - fmin(fmax(exact, -window), window));
+    const int lost = (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance;
+    return lost ? -1.0f : error;
+}
+
 __kernel void brick_check(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z,
-                          float voxel, float clamp_c, float band, float quant_scale, float dequant, float tolerance, float window, float cell, float radius,
-                          __global float* errors, __global uint* passed, __local float* stored, __local float* worst) {
+                          float voxel, float clamp_c, float band, float quant_scale, float dequant, float tolerance,
+                          float window, float cell, float radius, __global float* errors, __global uint* passed,
+                          __local float* stored, __local float* field, __local float* worst) {
+    __local int failed;
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
     __global const uint* list = edit_indices + b.edit_offset;
     const float3 origin = (float3)(origin_x, origin_y, origin_z);
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
-    for (uint idx = lid; idx < SAMPLE_COUNT; idx += wg) {
-        const int3 ijk = (int3)(idx % SAMPLES, (idx / SAMPLES) % SAMPLES, idx / (SAMPLES * SAMPLES));
-        const float3 p = origin + (convert_float3(first + ijk) + 0.5f) * voxel;
-        const float d = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
+    if (lid == 0) failed = 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const float3 centre = sdf_cell_centre(origin, cell, (int3)(b.coord[0], b.coord[1], b.coord[2]));
+    if (reaches_thin_edit(edits, meshes, list, b.edit_count, centre, voxel, radius + window, lid, wg)) failed = 1;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (!failed) {
+        for (uint idx = lid; idx < SAMPLE_COUNT; idx += wg) {
+            const int3 ijk = (int3)(idx % SAMPLES, (idx / SAMPLES) % SAMPLES, idx / (SAMPLES * SAMPLES));
+            const float3 p = origin + (convert_float3(first + ijk) + 0.5f) * voxel;
+            const float d = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
+            field[idx] = d;
 #if FORMAT == 2
-        stored[idx] = d;
+            stored[idx] = d;
 #else
-        stored[idx] = rint(d * quant_scale) * dequant;
+            stored[idx] = rint(d * quant_scale) * dequant;
 #endif
+        }
     }
     barrier(CLK_LOCAL_MEM_FENCE);
+    /* Depth beyond which a check point needs no fold: the window and the sign test's depth, with a
+     * margin of 1/64 voxel for the rounding of the folds. */
+    const float far = fmax(window, 0.5f * tolerance) + voxel * 0.015625f;
     float mine = 0.0f;
-    int lost = 0;
-    const float3 centre = sdf_cell_centre(origin, cell, (int3)(b.coord[0], b.coord[1], b.coord[2]));
-    for (uint j = lid; j < b.edit_count; j += wg) {
-        const SdfEdit e = edits[list[j]];
-        const SdfPrepared pe = sdf_prepare(e);
-        lost |= sdf_feature_size(e, meshes) < voxel && fabs(sdf_prepared_value(&pe, meshes, centre)) < radius + window;
-    }
-    for (uint t = lid; t < CHECK_COUNT; t += wg) {
+    const uint rounds = (CHECK_COUNT + wg - 1) / wg;
+    for (uint r = 0; r < rounds && !failed; ++r) {
+        const uint t = r * wg + lid;
         const int3 h = (int3)(t % CHECK_AXIS, (t / CHECK_AXIS) % CHECK_AXIS, t / (CHECK_AXIS * CHECK_AXIS));
-        if (((h.x | h.y | h.z) & 1) == 0) continue; /* a sample itself */
-        const int3 lo = h >> 1, hi = (h + 1) >> 1;
-        float sum = 0.0f;
-        for (int n = 0; n < 8; ++n) {
-            const int3 c = (int3)((n & 1) ? hi.x : lo.x, (n & 2) ? hi.y : lo.y, (n & 4) ? hi.z : lo.z);
-            sum += stored[c.x + SAMPLES * (c.y + SAMPLES * c.z)];
+        if (t < CHECK_COUNT && ((h.x | h.y | h.z) & 1) != 0) { /* not a sample itself */
+            const float e = check_point(edits, meshes, list, b.edit_count, stored, field, h, origin, first, voxel,
+                                        clamp_c, band, tolerance, window, far);
+            if (e < 0.0f || e > tolerance) failed = 1;
+            mine = fmax(mine, e);
         }
-        const float interpolated = sum * 0.125f;
-        const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
-        const float exact = fmin(fmax(check_field(edits, meshes, list, b.edit_count, p, clamp_c), -band), band);
-        const float error = fabs(fmin(fmax(interpolated, -window), window) - fmin(fmax(exact, -window), window));
-        lost |= (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance;
-        mine = fmax(mine, error);
+        /* every work-item reads `failed` between the same two barriers, so all leave together */
+        barrier(CLK_LOCAL_MEM_FENCE);
+        const int stop = failed;
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (stop) break;
     }
-    worst[lid] = lost ? -mine - 1.0f : mine; /* negative: a sign was lost */
+    worst[lid] = mine;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
         float w = 0.0f;
-        int any_lost = 0;
-        for (uint i = 0; i < wg; ++i) {
-            any_lost |= worst[i] < 0.0f;
-            w = fmax(w, worst[i] < 0.0f ? -worst[i] - 1.0f : worst[i]);
-        }
-        errors[brick] = w;
-        passed[brick] = w <= tolerance && !any_lost ? 1u : 0u;
+        for (uint i = 0; i < wg; ++i) w = fmax(w, worst[i]);
+        errors[brick] = failed ? INFINITY : w;
+        passed[brick] = failed ? 0u : 1u;
     }
 }

@@ -32,6 +32,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
                   static_cast<float>(in_.plan.domain.cell_size(level)), in_.plan.cull_radius(level, layout.apron()),
                   out.errors, out.passed,
                   ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)},
+                  ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)},
                   ocl::LocalMemory{group * sizeof(float)});
     in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
     ocl::Buffer<cl_uint>& offsets = levels.offsets(n, "the leaf offsets");
