@@ -116,8 +116,10 @@ nlohmann::json to_json(const ReferenceFigures& r) {
 
 std::string accuracy_text(const reference::AccuracyMetrics& a) {
     return fmt::format("  accuracy vs reference: hit mismatch {:.4f}%, depth error mean {:.4f} p99 {:.4f} max "
-                       "{:.3f} voxels, normal error mean {:.3f} p99 {:.3f} deg, PSNR {:.2f} dB{}\n",
+                       "{:.3f} voxels (p99 {:.4g} max {:.4g} world), normal error mean {:.3f} p99 {:.3f} deg, PSNR "
+                       "{:.2f} dB{}\n",
                        100.0 * a.mismatch_fraction, a.depth_error_mean, a.depth_error_p99, a.depth_error_max,
+                       a.depth_error_p99_world, a.depth_error_max_world,
                        a.normal_error_mean_deg, a.normal_error_p99_deg, a.psnr_db,
                        a.reference_unconverged
                            ? fmt::format(" ({} reference pixels unconverged)", a.reference_unconverged)

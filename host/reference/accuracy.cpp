@@ -70,7 +70,7 @@ glm::dvec3 heat(double e) {
 template <class Voxel>
 AccuracyMetrics compare_with(const RenderBuffer& test, const RenderBuffer& reference, Voxel&& voxel) {
     AccuracyMetrics m;
-    std::vector<double> depth_err, normal_err;
+    std::vector<double> depth_err, depth_world, normal_err;
     double sq = 0.0;
     for (std::size_t i = 0; i < reference.pixels(); ++i) {
         if (unconverged(reference, i)) {
@@ -82,7 +82,8 @@ AccuracyMetrics compare_with(const RenderBuffer& test, const RenderBuffer& refer
         if (ht != hr) ++m.hit_mismatches;
         if (ht && hr) {
             ++m.both_hit;
-            depth_err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) / voxel(i));
+            depth_world.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)));
+            depth_err.push_back(depth_world.back() / voxel(i));
             normal_err.push_back(angle_deg(test.normal(i), reference.normal(i)));
         }
         const glm::dvec3 d = normal_colour(test, i) - normal_colour(reference, i);
@@ -92,6 +93,8 @@ AccuracyMetrics compare_with(const RenderBuffer& test, const RenderBuffer& refer
     m.depth_error_mean = mean(depth_err);
     m.depth_error_max = depth_err.empty() ? 0.0 : *std::max_element(depth_err.begin(), depth_err.end());
     m.depth_error_p99 = percentile(std::move(depth_err), 99.0);
+    m.depth_error_max_world = depth_world.empty() ? 0.0 : *std::max_element(depth_world.begin(), depth_world.end());
+    m.depth_error_p99_world = percentile(std::move(depth_world), 99.0);
     m.normal_error_mean_deg = mean(normal_err);
     m.normal_error_p99_deg = percentile(std::move(normal_err), 99.0);
     const double mse = m.pixels == 0 ? 0.0 : sq / (3.0 * static_cast<double>(m.pixels));
@@ -121,6 +124,8 @@ nlohmann::json to_json(const AccuracyMetrics& m) {
     j["depth_error_mean"] = m.depth_error_mean;
     j["depth_error_p99"] = m.depth_error_p99;
     j["depth_error_max"] = m.depth_error_max;
+    j["depth_error_p99_world"] = m.depth_error_p99_world;
+    j["depth_error_max_world"] = m.depth_error_max_world;
     j["normal_error_mean_deg"] = m.normal_error_mean_deg;
     j["normal_error_p99_deg"] = m.normal_error_p99_deg;
     j["psnr_db"] = std::isfinite(m.psnr_db) ? nlohmann::json(m.psnr_db) : nlohmann::json(nullptr);

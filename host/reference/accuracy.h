@@ -41,6 +41,7 @@ struct AccuracyMetrics {
     std::size_t hit_mismatches = 0;  // hit in one image and not the other (either way)
     double mismatch_fraction = 0;    // hit_mismatches / pixels
     double depth_error_mean = 0, depth_error_p99 = 0, depth_error_max = 0;  // voxels, over both_hit pixels
+    double depth_error_p99_world = 0, depth_error_max_world = 0;             // the same in world units
     double normal_error_mean_deg = 0, normal_error_p99_deg = 0;            // degrees, over both_hit pixels
     double psnr_db = 0;                     // normal images; +infinity when identical
     std::size_t reference_unconverged = 0;  // reference pixels flagged SDF_REF_UNCONVERGED (excluded above)
