@@ -6,11 +6,45 @@
 
 namespace sdfbrick::construct::detail {
 
+// The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;
+// owned: per brick, the regions it evaluates (null: all). Launched as stage at level.
+void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
+                      std::uint64_t count, const ocl::Buffer<cl_uint>* owned, ocl::Buffer<std::uint8_t>& pool,
+                      measure::Stage stage, int level) {
+    if (count == 0) return;
+    const BrickLayout layout = in.settings.layout();
+    const std::size_t samples3 = layout.samples_per_brick();
+    const auto lanes = static_cast<std::size_t>(in.settings.lanes(in.device.info()));
+    const std::size_t group = std::min<std::size_t>(in.settings.eval_group, (samples3 + lanes - 1) / lanes);
+    const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
+    const double mean_list = in.settings.cull ? static_cast<double>(lists.size()) / static_cast<double>(count)
+                                              : static_cast<double>(in.edits_host.size());
+    // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
+    // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
+    const bool hoist = mean_list >= BuildSettings::kLongList;
+    const bool skip_far = hoist && in.settings.skip_far &&
+                          std::any_of(in.edits_host.begin(), in.edits_host.end(), [](const SdfEdit& e) {
+                              return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
+                                     (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
+                          });
+    const ocl::Program program = ocl::build_program(
+        in.device, "brick_evaluate.cl",
+        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={}", layout.defines(),
+                    lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0));
+    const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
+    const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
+    ocl::set_args(kernel.get(), in.edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
+                  in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp, in.plan.band,
+                  layout.quantise_scale(in.plan.band), static_cast<cl_uint>(in.plan.finest()), in.plan.log2b, pool,
+                  ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfEdit)},
+                  static_cast<cl_uint>(in.settings.chunk));
+    in.scheduler.launch(stage, level, kernel.get(), count * group, group);
+}
+
 // The pool (every leaf's samples) and the leaves' boxes.
 void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl_uint>& lists,
                               std::uint64_t leaf_count, Levels::Bytes& bytes) {
     const BrickLayout layout = in_.settings.layout();
-    const std::size_t samples3 = layout.samples_per_brick();
     in_.out.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
         in_.device, leaf_count * layout.brick_bytes(), fmt::format("the brick pool ({} bricks)", leaf_count)));
     in_.out.aabbs =
@@ -18,34 +52,10 @@ void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Bu
     in_.out.shifts =
         std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(in_.device, leaf_count, "the brick shifts"));
     if (leaf_count == 0) return;
-    const auto lanes = static_cast<std::size_t>(in_.settings.lanes(in_.device.info()));
-    const std::size_t group = std::min<std::size_t>(in_.settings.eval_group, (samples3 + lanes - 1) / lanes);
-    const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
-    const double mean_list = in_.settings.cull ? static_cast<double>(lists.size()) / static_cast<double>(leaf_count)
-                                               : static_cast<double>(in_.edits_host.size());
-    // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
-    // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
-    const bool hoist = mean_list >= BuildSettings::kLongList;
-    const bool skip_far = hoist && in_.settings.skip_far &&
-                          std::any_of(in_.edits_host.begin(), in_.edits_host.end(), [](const SdfEdit& e) {
-                              return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
-                                     (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
-                          });
-    const ocl::Program program = ocl::build_program(
-        in_.device, "brick_evaluate.cl",
-        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={}", layout.defines(),
-                    lanes, per_item, hoist ? 1 : 0, in_.settings.apron_share_edits > 0 ? 1 : 0, skip_far ? 1 : 0));
-    const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const int leaf_level = in_.plan.domain.levels - 1;
-    const ocl::Buffer<float> level_clamp(ocl::pooled, in_.device, std::span<const float>(in_.plan.level_clamp));
     const auto finest = static_cast<cl_uint>(in_.plan.finest());
     const ApronSharing apron = share_aprons(leaves, leaf_count, bytes);
-    ocl::set_args(kernel.get(), in_.edits, in_.meshes, lists, leaves, owned_ ? *owned_ : in_.empty_uints, in_.origin.x,
-                  in_.origin.y, in_.origin.z, static_cast<float>(in_.plan.voxel), level_clamp, in_.plan.band,
-                  layout.quantise_scale(in_.plan.band), finest, in_.plan.log2b, *in_.out.pool,
-                  ocl::LocalMemory{static_cast<std::size_t>(in_.settings.chunk) * sizeof(SdfEdit)},
-                  static_cast<cl_uint>(in_.settings.chunk));
-    in_.scheduler.launch(measure::Stage::evaluate, leaf_level, kernel.get(), leaf_count * group, group);
+    evaluate_samples(in_, leaves, lists, leaf_count, owned_.get(), *in_.out.pool, measure::Stage::evaluate, leaf_level);
     if (apron.copy) {
         ocl::set_args(apron.copy->get(), *owned_, apron.neighbours, *in_.out.pool);
         in_.scheduler.launch(measure::Stage::apron, leaf_level, apron.copy->get(), leaf_count * kGroup1d, kGroup1d);
