@@ -125,35 +125,15 @@ TEST(ConstructAdaptive, CoarseLeavesMeetTheToleranceAgainstTheReference) {
     EXPECT_LE(worst, s.tolerance + 1e-5) << "over " << checked << " cell centres of the coarse leaves";
 }
 
-// A rounded slab with grooves and small cuts narrower than a coarse voxel beside plain faces: the
-// kind of scene whose coarse leaves hid grooves between their check points.
-Geometry grooved_slab() {
-    Geometry g;
-    const auto edit = [&](Primitive p, std::array<double, 4> params, glm::dvec3 at, Op op) {
-        Edit e;
-        e.primitive = p;
-        e.params = params;
-        e.transform.translation = at;
-        e.op = op;
-        g.edits.push_back(e);
-    };
-    edit(Primitive::RoundBox, {0.75, 0.1, 0.75, 0.04}, {0.0, 0.0, 0.0}, Op::Add);
-    for (int i = 0; i < 4; ++i)  // grooves 0.01 wide along z, on the left half
-        edit(Primitive::Box, {0.005, 0.012, 0.8, 0}, {-0.6 + 0.13 * i, 0.1, 0.0}, Op::Subtract);
-    for (int i = 0; i < 8; ++i)  // small cuts on the front right quarter
-        edit(Primitive::Box, {0.01, 0.01, 0.01, 0}, {0.15 + 0.07 * i, 0.1, 0.3 + 0.04 * (i % 3)}, Op::Subtract);
-    return g;
-}
-
 // At every sample of every finest uniform brick that holds the surface, within the band: an
 // adaptive leaf covers it (nothing is missing), its field has the surface's sign where the field is
 // deeper than the tolerance, and differs from the (quantised) exact value by at most 2E, the seam
-// bound of docs/construction.md, with the 99th percentile within E.
+// bound of docs/construction.md, with the 99th percentile within E. The board of the hard case
+// grooved_board: grooves 0.03 wide beside plain faces, where leaves of cell 1 (check points 0.083
+// apart) once hid the grooves.
 TEST(ConstructAdaptive, NothingMissingAndTheToleranceHoldsAtEveryFinestSample) {
-    const Geometry g = grooved_slab();
-    const BuildSettings uniform = adaptive(0.03125, 0.0);
-    BuildSettings coarse = adaptive(0.03125, 0.003);
-    coarse.max_leaf_size = 0.5;  // leaves whose check points lie 0.042 apart, wider than the grooves
+    const Geometry g = shipped_geometry("stability/grooved_board");
+    const BuildSettings uniform = adaptive(0.0625, 0.0), coarse = adaptive(0.0625, 0.008);
     const exchange::HostBricks u(builder().build(g, uniform, test::recorder()), uniform);
     const GeometryBuild ab = builder().build(g, coarse, test::recorder());
     ASSERT_LT(ab.coarsest_leaf_level, ab.levels - 1);
