@@ -9,6 +9,7 @@
 #include "bvh/bvh_builder.h"
 #include "core/hash.h"
 #include "render/pictures.h"
+#include "scene/to_device.h"
 
 namespace sdfbrick::pipeline {
 
@@ -116,10 +117,13 @@ nlohmann::json to_json(const ReferenceFigures& r) {
 
 std::string accuracy_text(const reference::AccuracyMetrics& a) {
     return fmt::format("  accuracy vs reference: hit mismatch {:.4f}%, depth error mean {:.4f} p99 {:.4f} max "
-                       "{:.3f} voxels (p99 {:.4g} max {:.4g} world), normal error mean {:.3f} p99 {:.3f} deg, PSNR "
+                       "{:.3f} voxels (p99 {:.4g} max {:.4g} world{}), normal error mean {:.3f} p99 {:.3f} deg, PSNR "
                        "{:.2f} dB{}\n",
                        100.0 * a.mismatch_fraction, a.depth_error_mean, a.depth_error_p99, a.depth_error_max,
                        a.depth_error_p99_world, a.depth_error_max_world,
+                       a.surface_error_p99_world ? fmt::format("; between the surfaces p99 {:.4g} max {:.4g}",
+                                                               *a.surface_error_p99_world, *a.surface_error_max_world)
+                                                 : "",
                        a.normal_error_mean_deg, a.normal_error_p99_deg, a.psnr_db,
                        a.reference_unconverged
                            ? fmt::format(" ({} reference pixels unconverged)", a.reference_unconverged)
@@ -214,6 +218,8 @@ BrickRender brick_render(RenderFigures figures, const Run& run, const Scene& sce
     if (check_tree) b.tree = check_trees(run.bricks);
     if (compare && reference) {
         b.accuracy = reference::compare(run.trace->buffer, *reference, b.figures.voxel_world);
+        reference::add_surface_error(*b.accuracy, run.trace->buffer, *reference,
+                                     make_camera(scene.camera, reference->width, reference->height));
         if (run.bricks.settings.adaptive())
             b.seams = render::count_seam_mismatches(scene, run.bricks, run.trace->buffer, *reference);
     }

@@ -115,6 +115,28 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
     return compare_with(test, reference, [pixel_voxel](std::size_t i) { return pixel_voxel[i]; });
 }
 
+void add_surface_error(AccuracyMetrics& m, const RenderBuffer& test, const RenderBuffer& reference,
+                       const SdfCamera& camera) {
+    check_pair(test, reference, 1.0);
+    if (camera.width != static_cast<sdf_u32>(reference.width) || camera.height != static_cast<sdf_u32>(reference.height))
+        throw std::invalid_argument("accuracy: the camera's image size differs from the images'");
+    const glm::dvec3 forward(camera.forward[0], camera.forward[1], camera.forward[2]);
+    const glm::dvec3 right(camera.right[0], camera.right[1], camera.right[2]);
+    const glm::dvec3 up(camera.up[0], camera.up[1], camera.up[2]);
+    std::vector<double> err;
+    for (std::size_t i = 0; i < reference.pixels(); ++i) {
+        if (unconverged(reference, i) || !test.is_hit(i) || !reference.is_hit(i)) continue;
+        const double x = static_cast<double>(i % static_cast<std::size_t>(reference.width));
+        const double y = static_cast<double>(i / static_cast<std::size_t>(reference.width));
+        const double u = 2.0 * (x + 0.5) / reference.width - 1.0, v = 1.0 - 2.0 * (y + 0.5) / reference.height;
+        const glm::dvec3 d = glm::normalize(forward + u * right + v * up);
+        const double c = std::abs(glm::dot(d, reference.normal(i)));
+        err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) * c);
+    }
+    m.surface_error_max_world = err.empty() ? 0.0 : *std::max_element(err.begin(), err.end());
+    m.surface_error_p99_world = percentile(std::move(err), 99.0);
+}
+
 nlohmann::json to_json(const AccuracyMetrics& m) {
     nlohmann::json j;
     j["pixels"] = m.pixels;
@@ -126,6 +148,10 @@ nlohmann::json to_json(const AccuracyMetrics& m) {
     j["depth_error_max"] = m.depth_error_max;
     j["depth_error_p99_world"] = m.depth_error_p99_world;
     j["depth_error_max_world"] = m.depth_error_max_world;
+    if (m.surface_error_p99_world) {
+        j["surface_error_p99_world"] = *m.surface_error_p99_world;
+        j["surface_error_max_world"] = *m.surface_error_max_world;
+    }
     j["normal_error_mean_deg"] = m.normal_error_mean_deg;
     j["normal_error_p99_deg"] = m.normal_error_p99_deg;
     j["psnr_db"] = std::isfinite(m.psnr_db) ? nlohmann::json(m.psnr_db) : nlohmann::json(nullptr);

@@ -28,10 +28,13 @@
 #include <cstddef>
 #include <span>
 
+#include <optional>
+
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
 #include "image/render_buffer.h"
+#include "sdf_types.h"
 
 namespace sdfbrick::reference {
 
@@ -42,6 +45,9 @@ struct AccuracyMetrics {
     double mismatch_fraction = 0;    // hit_mismatches / pixels
     double depth_error_mean = 0, depth_error_p99 = 0, depth_error_max = 0;  // voxels, over both_hit pixels
     double depth_error_p99_world = 0, depth_error_max_world = 0;             // the same in world units
+    // The distance between the two surfaces, world units: each depth error times the cosine between
+    // its ray and the reference normal (add_surface_error; absent until it runs).
+    std::optional<double> surface_error_p99_world, surface_error_max_world;
     double normal_error_mean_deg = 0, normal_error_p99_deg = 0;            // degrees, over both_hit pixels
     double psnr_db = 0;                     // normal images; +infinity when identical
     std::size_t reference_unconverged = 0;  // reference pixels flagged SDF_REF_UNCONVERGED (excluded above)
@@ -54,6 +60,11 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
 // differ in world size: each pixel measured in the voxels of the object it shows). Throws as above,
 // and for a pixel_voxel of another size or a value that is not finite and > 0.
 AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel);
+
+// Fills m's surface_error_* from the pixels both hit, their rays given by camera (sdf_camera.h's
+// directions, in double). Throws as compare() for mismatched buffers or a camera of another size.
+void add_surface_error(AccuracyMetrics& m, const RenderBuffer& test, const RenderBuffer& reference,
+                       const SdfCamera& camera);
 
 // Every field under its own name; psnr_db is null when it is infinite.
 nlohmann::json to_json(const AccuracyMetrics& m);

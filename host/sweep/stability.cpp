@@ -187,6 +187,8 @@ private:
             const render::SceneBricks& bricks = built_->lanes[i].run.bricks;
             const std::vector<double> voxels = pixel_voxels(scene_, bricks, buffer);
             c.accuracy = reference::compare(buffer, reference_, voxels);
+            reference::add_surface_error(c.accuracy, buffer, reference_,
+                                         make_camera(scene_.camera, reference_.width, reference_.height));
             c.capped_rays = render::work_counts(buffer).capped_rays;
             for (const render::TraceWarning& w : run.trace->warnings) c.warnings.push_back(w.message);
             c.bricks = bricks.bricks;

@@ -49,6 +49,31 @@ TEST(ReferenceAccuracy, DepthErrorsOfATwoByTwoImage) {
     EXPECT_DOUBLE_EQ(r.depth_error_mean, 0.875);
 }
 
+// The distance between the surfaces: each depth error times the cosine between its ray and the
+// reference normal. A 1 x 1 camera looks down -z; its ray is the forward axis. Normal +z: the error
+// itself; normal at 60 degrees from the ray: half of it. The world-unit depth error keeps the whole.
+TEST(ReferenceAccuracy, SurfaceErrorIsTheDepthErrorAlongTheNormal) {
+    SdfCamera camera{};
+    camera.forward[2] = -1.0f;
+    camera.right[0] = 1.0f;
+    camera.up[1] = 1.0f;
+    camera.width = camera.height = 1;
+    RenderBuffer ref = blank(1, 1), test = blank(1, 1);
+    set_hit(ref, 0, 2.0f);
+    set_hit(test, 0, 2.5f);
+    AccuracyMetrics m = compare(test, ref, 0.25);
+    EXPECT_FALSE(m.surface_error_p99_world);
+    add_surface_error(m, test, ref, camera);
+    EXPECT_DOUBLE_EQ(*m.surface_error_p99_world, 0.5);
+    set_hit(ref, 0, 2.0f, 0.0f, std::sqrt(3.0f) / 2.0f, 0.5f);
+    m = compare(test, ref, 0.25);
+    add_surface_error(m, test, ref, camera);
+    EXPECT_NEAR(*m.surface_error_max_world, 0.25, 1e-7);
+    EXPECT_DOUBLE_EQ(m.depth_error_max_world, 0.5);
+    camera.width = 2;
+    EXPECT_THROW(add_surface_error(m, test, ref, camera), std::invalid_argument);
+}
+
 // Each pixel's depth error in its own voxel: the same depth error counts 4 voxels where the voxel is
 // 0.25 and 0.5 where it is 2; a list of another size, or a voxel <= 0, is refused.
 TEST(ReferenceAccuracy, PerPixelVoxels) {
