@@ -12,7 +12,7 @@
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
  * window of the brick's centre fails too, whatever its points show. Every edit the cull drops fails
  * that distance test, so culling on and off agree.
- * The points go in batches of BATCH: those whose field is known to be beyond the window from a
+ * The points go in batches of BATCH, cell centres first (check_coord): those whose field is known to be beyond the window from a
  * sample (below) are settled at once, the others are folded through the brick's list staged in
  * __local chunks as brick_evaluate does; a work-group stops after the first batch with a failing
  * point. Writes the brick's worst error (INFINITY when it failed) and whether it passed.
@@ -24,7 +24,8 @@
 #define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
 #define INTERIOR (SAMPLES - 2 * APRON)
 #define CHECK_AXIS (2 * SAMPLES - 1)
-#define CHECK_COUNT (CHECK_AXIS * CHECK_AXIS * CHECK_AXIS)
+#define CELLS (SAMPLES - 1)
+#define CHECK_COUNT (CHECK_AXIS * CHECK_AXIS * CHECK_AXIS - SAMPLE_COUNT) /* the lattice less the samples */
 #define BATCH 1024
 
 /* Whether the brick's list reaches an edit thinner than its voxel (see above). */
@@ -39,7 +40,25 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
     return thin;
 }
 
-inline int3 check_coord(uint t) { return (int3)(t % CHECK_AXIS, (t / CHECK_AXIS) % CHECK_AXIS, t / (CHECK_AXIS * CHECK_AXIS)); }
+/* Check point t on the half-voxel lattice (odd coordinates lie between samples), cell centres first
+ * (odd on three axes: where the trilinear error of a smooth field peaks, so a failing brick usually
+ * fails in the first batch), then face centres (two), then edge midpoints (one). */
+inline int3 check_coord(uint t) {
+    const uint centres = CELLS * CELLS * CELLS, faces = SAMPLES * CELLS * CELLS, edges = CELLS * SAMPLES * SAMPLES;
+    if (t < centres) return 2 * (int3)(t % CELLS, (t / CELLS) % CELLS, t / (CELLS * CELLS)) + 1;
+    t -= centres;
+    if (t < 3u * faces) { /* even on axis t / faces */
+        const uint axis = t / faces, r = t % faces;
+        const int3 c = (int3)(r % SAMPLES, (r / SAMPLES) % CELLS, r / (SAMPLES * CELLS)); /* even, odd, odd */
+        const int3 h = (int3)(2 * c.x, 2 * c.y + 1, 2 * c.z + 1);
+        return axis == 0u ? h : axis == 1u ? h.yxz : h.yzx;
+    }
+    t -= 3u * faces;
+    const uint axis = t / edges, r = t % edges; /* odd on axis */
+    const int3 c = (int3)(r % CELLS, (r / CELLS) % SAMPLES, r / (CELLS * SAMPLES)); /* odd, even, even */
+    const int3 h = (int3)(2 * c.x + 1, 2 * c.y, 2 * c.z);
+    return axis == 0u ? h : axis == 1u ? h.yxz : h.yzx;
+}
 
 /* The trilinear value at check point h (the mean of its 2, 4 or 8 samples), and in *deepest the
  * stored sample of largest magnitude among them. */
@@ -112,7 +131,6 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         const uint end = min((uint)CHECK_COUNT, start + BATCH);
         for (uint t = start + lid; t < end; t += wg) {
             const int3 h = check_coord(t);
-            if (((h.x | h.y | h.z) & 1) == 0) continue; /* a sample itself */
             float deepest;
             const float interpolated = interpolate(stored, h, &deepest);
             const int odd = (h.x & 1) + (h.y & 1) + (h.z & 1);
