@@ -1,6 +1,7 @@
 #include "construct/build_parts.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <span>
 
@@ -19,7 +20,7 @@ double largest_blend(const Geometry& g) {
 
 // The coarsest leaf level and each leaf level's C; refuses a tolerance below float precision at the
 // domain's coordinates and a finest level too fine for the 63-bit Morton keys of the merge.
-void plan_adaptive(BuildPlan& p, const Aabb& box, const BuildSettings& s, double blend) {
+void plan_adaptive(BuildPlan& p, const BuildSettings& s, double blend) {
     const double precision = p.magnitude * std::ldexp(1.0, -20);
     if (s.tolerance < precision)
         throw SettingError("tolerance", fmt::format("tolerance {} is finer than float precision allows at coordinates "
@@ -29,8 +30,7 @@ void plan_adaptive(BuildPlan& p, const Aabb& box, const BuildSettings& s, double
         throw SettingError("leaf_size", fmt::format("an adaptive build allows at most 2^21 finest bricks per axis; "
                                                     "leaf_size {} needs {}",
                                                     s.leaf_size, p.domain.cells_per_axis(p.finest())));
-    const glm::dvec3 extent = box.hi - box.lo;
-    const double largest = s.max_leaf_size > 0.0 ? s.max_leaf_size : 0.25 * std::max({extent.x, extent.y, extent.z});
+    const double largest = s.max_leaf_size > 0.0 ? s.max_leaf_size : std::numeric_limits<double>::infinity();
     p.coarsest_leaf = p.finest();
     while (p.coarsest_leaf > 1 && p.domain.cell_size(p.coarsest_leaf - 1) <= largest) --p.coarsest_leaf;
     p.tolerance = static_cast<float>(s.tolerance);
@@ -68,7 +68,7 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     p.clamp_c = float_up(std::max<double>(p.band, p.threshold(p.domain.levels - 1)) * (1.0 + 1.0 / 256.0) + blend);
     p.coarsest_leaf = p.finest();
     p.level_clamp.assign(static_cast<std::size_t>(p.domain.levels), p.clamp_c);
-    if (s.adaptive()) plan_adaptive(p, box, s, blend);
+    if (s.adaptive()) plan_adaptive(p, s, blend);
     return p;
 }
 
