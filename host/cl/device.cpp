@@ -523,6 +523,15 @@ const Program* Device::find_program(std::string_view key) const {
     return it != programs_.end() ? &*it : nullptr;
 }
 
+const std::string* Device::program_key(std::string_view request) const {
+    const auto it = program_keys_.find(request);
+    return it != program_keys_.end() ? &it->second : nullptr;
+}
+
+void Device::remember_program_key(std::string request, std::string key) {
+    program_keys_.insert_or_assign(std::move(request), std::move(key));
+}
+
 const Program* Device::find_program(cl_program handle) const {
     const auto it = std::find_if(programs_.begin(), programs_.end(),
                                  [&](const Program& p) { return p.get() == handle; });

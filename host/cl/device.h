@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -123,6 +124,10 @@ public:
     // The remembered program with this handle (e.g. from CL_KERNEL_PROGRAM), or nullptr.
     const Program* find_program(cl_program handle) const;
     void remember_program(const Program& program);
+    // The cache key build_program found for a request (file and options) of embedded sources: a
+    // request made again skips assembling and hashing the source. nullptr when not made yet.
+    const std::string* program_key(std::string_view request) const;
+    void remember_program_key(std::string request, std::string key);
 
 private:
     DeviceInfo info_;
@@ -130,6 +135,7 @@ private:
     Context context_;
     Queue queue_;
     std::vector<Program> programs_;
+    std::map<std::string, std::string, std::less<>> program_keys_;
     std::shared_ptr<MemoryPool> memory_pool_ = std::make_shared<MemoryPool>();
 };
 

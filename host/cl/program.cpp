@@ -504,16 +504,23 @@ std::optional<CacheSeal> cache_seal(const Device& device, std::string_view kerne
 
 Program build_program(Device& device, std::string_view kernel_file, std::string_view extra_options) {
     const auto start = std::chrono::steady_clock::now();
-    ProgramInputs in = program_inputs(device, kernel_file, extra_options);
-    BuildRecord& record = in.record;
-
-    if (const Program* known = device.find_program(record.key)) {
-        BuildRecord reused = known->record();
+    const auto reuse = [&](const Program& known) {
+        BuildRecord reused = known.record();
         reused.origin = ProgramOrigin::memory_cache;
         reused.cache_note.clear();
         reused.build_ms = ms_since(start);
-        return Program(known->handle(), std::move(reused));
-    }
+        return Program(known.handle(), std::move(reused));
+    };
+    // Embedded sources do not change: a request made before names its program without the source.
+    const bool embedded = !kernel_dir().has_value();
+    const std::string request = fmt::format("{}\n{}", kernel_file, extra_options);
+    if (const std::string* key = embedded ? device.program_key(request) : nullptr)
+        if (const Program* known = device.find_program(*key)) return reuse(*known);
+
+    ProgramInputs in = program_inputs(device, kernel_file, extra_options);
+    BuildRecord& record = in.record;
+    if (embedded) device.remember_program_key(request, record.key);
+    if (const Program* known = device.find_program(record.key)) return reuse(*known);
 
     std::optional<CacheSeal> seal;
     if (const std::optional<std::filesystem::path> dir = program_cache_dir()) {
