@@ -10,8 +10,8 @@
  * that the samples step over). Check points half a voxel apart cannot see a feature narrower than
  * that, so a brick whose list holds an edit thinner than its voxel (sdf_feature_size) whose surface
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
- * window of the brick's centre fails too, whatever its points show. Every edit the cull drops fails
- * that distance test, so culling on and off agree.
+ * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
+ * Every edit the cull drops fails that distance test, so culling on and off agree.
  * The points go in batches of BATCH, cell centres first (check_coord): those whose field is known to be beyond the window from a
  * sample (below) are settled at once, the others are folded through the brick's list staged in
  * __local chunks as brick_evaluate does; a work-group stops after the first batch with a failing
@@ -83,11 +83,36 @@ inline float point_error(float interpolated, float exact, float tolerance, float
     return lost ? -1.0f : error;
 }
 
+/* Before the samples are evaluated: per brick, whether it reaches a thin edit (then it fails, and
+ * its copy in `masked`, which the evaluation reads, has no edits, so that nothing is folded for it).
+ * passed: 0 for those, 1 for the others (brick_check decides them). */
+__kernel void brick_thin(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
+                         __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z, float voxel,
+                         float window, float cell, float radius, __global SdfBrick* masked, __global uint* passed) {
+    __local int thin;
+    const uint brick = get_group_id(0);
+    const uint lid = get_local_id(0), wg = get_local_size(0);
+    SdfBrick b = bricks[brick];
+    if (lid == 0) thin = 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const float3 centre = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
+                                          (int3)(b.coord[0], b.coord[1], b.coord[2]));
+    if (reaches_thin_edit(edits, meshes, edit_indices + b.edit_offset, b.edit_count, centre, voxel, radius + window,
+                          lid, wg))
+        thin = 1;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) {
+        if (thin) b.edit_count = 0u;
+        masked[brick] = b;
+        passed[brick] = thin ? 0u : 1u;
+    }
+}
+
 __kernel void brick_check(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global const SdfBrick* bricks, __global const sample_t* pool, float origin_x,
                           float origin_y, float origin_z, float voxel, float clamp_c, float band, float dequant,
-                          float tolerance, float window, float cell, float radius, __global float* errors,
-                          __global uint* passed, __local float* stored, __local float* worst,
+                          float tolerance, float window, __global float* errors, __global uint* passed,
+                          __local float* stored, __local float* worst,
                           __local SdfPrepared* chunk, uint chunk_size) {
     __local int failed;
     __local uint todo_count;
@@ -106,10 +131,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         stored[idx] = (float)pool[(size_t)brick * SAMPLE_COUNT + idx] * dequant;
 #endif
     }
-    if (lid == 0) failed = 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    const float3 centre = sdf_cell_centre(origin, cell, (int3)(b.coord[0], b.coord[1], b.coord[2]));
-    if (reaches_thin_edit(edits, meshes, list, b.edit_count, centre, voxel, radius + window, lid, wg)) failed = 1;
+    if (lid == 0) failed = passed[brick] == 0u; /* brick_thin failed it */
     /* Depth beyond which a check point needs no fold: the window and the sign test's depth, with a
      * margin of 1/64 voxel for the rounding of the folds. A stored sample is within half a
      * quantisation step of F clamped to the band, and F is 1-Lipschitz: a point sqrt(odd axes) / 2

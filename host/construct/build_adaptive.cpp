@@ -21,19 +21,25 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
                     allocate<float>(in_.device, n, "the check errors"),
                     allocate<cl_uint>(in_.device, n, "the check results"),
                     nullptr};
-    // The bricks' samples as the evaluation stores them, which the check compares with the field.
-    ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
-    evaluate_samples(in_, levels.parents(), levels.lists(), n, nullptr, samples, measure::Stage::check, level);
-    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes());
     const float band = std::ldexp(in_.plan.band, in_.plan.shift(level));
     const auto voxel = static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level)));
     // Errors count within one voxel of this level of the surface (at least the finest band): every
     // surface point then has check points on both sides within the window.
     const float window = std::max(in_.plan.band, voxel);
+    // The bricks that reach a thin edit fail first, and their copies in `masked` have no edits; the
+    // others' samples come from the evaluation, which the check compares with the field.
+    ocl::Buffer<SdfBrick> masked = allocate<SdfBrick>(in_.device, n, "the checked bricks");
+    const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
+    ocl::set_args(thin.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), in_.origin.x, in_.origin.y,
+                  in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
+                  in_.plan.cull_radius(level, layout.apron()), masked, out.passed);
+    in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * kGroup1d, kGroup1d);
+    ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
+    evaluate_samples(in_, masked, levels.lists(), n, nullptr, samples, measure::Stage::check, level);
+    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes());
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), samples, in_.origin.x,
                   in_.origin.y, in_.origin.z, voxel, in_.plan.level_clamp[level], band, layout.dequantise_scale(band),
-                  in_.plan.tolerance, window, static_cast<float>(in_.plan.domain.cell_size(level)),
-                  in_.plan.cull_radius(level, layout.apron()), out.errors, out.passed,
+                  in_.plan.tolerance, window, out.errors, out.passed,
                   ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)}, ocl::LocalMemory{group * sizeof(float)},
                   ocl::LocalMemory{static_cast<std::size_t>(in_.settings.chunk) * sizeof(SdfEdit)},
                   static_cast<cl_uint>(in_.settings.chunk));
