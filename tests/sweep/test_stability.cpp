@@ -82,6 +82,41 @@ TEST_P(SweepStabilityCase, MatchesTheTestTable) {
     }
 }
 
+// The adaptive hard cases (docs/stability.md): at the tests' size, an adaptive build fails no
+// threshold that the uniform build at its finest size passes, and the distance between its surface
+// and the true one (p99) exceeds the uniform build's by at most the tolerance.
+TEST(SweepStability, AdaptiveHardCasesFailOnlyWhereUniformFails) {
+    sweep::StabilitySpec spec;
+    for (const char* name : {"ground_trees", "engraved_slab", "grooved_board", "steep_blends"})
+        spec.cases.push_back({std::string(SDFBRICK_SOURCE_DIR) + "/scenes/stability/" + name + ".json", 0.125});
+    spec.methods = {render::Method::hybrid};
+    spec.normals = {render::NormalMethod::continuous};
+    spec.formats = {construct::BrickFormat::int8};
+    spec.width = 97;
+    spec.height = 55;
+    ocl::DeviceSet devices = test::open_test_devices();
+    const sweep::StabilityReport r = sweep::run_stability(spec, devices, {});
+    std::map<std::string, std::vector<std::string>> uniform;
+    std::map<std::string, double> uniform_surface;
+    for (const sweep::StabilityCell& c : r.cells) {
+        ASSERT_FALSE(c.error) << c.case_name << ": " << *c.error;
+        ASSERT_TRUE(c.accuracy.surface_error_p99_world);
+        if (c.tolerance > 0.0) continue;
+        uniform[c.case_name] = c.failures;
+        uniform_surface[c.case_name] = *c.accuracy.surface_error_p99_world;
+    }
+    std::size_t adaptive = 0;
+    for (const sweep::StabilityCell& c : r.cells) {
+        if (c.tolerance == 0.0) continue;
+        ++adaptive;
+        for (const std::string& f : c.failures)
+            EXPECT_NE(std::find(uniform[c.case_name].begin(), uniform[c.case_name].end(), f), uniform[c.case_name].end())
+                << c.case_name << ": adaptive fails " << f << ", uniform does not";
+        EXPECT_LE(*c.accuracy.surface_error_p99_world, uniform_surface[c.case_name] + c.tolerance) << c.case_name;
+    }
+    EXPECT_EQ(adaptive, 4u);
+}
+
 // docs/stability.md, "What the tests assert": 97 x 55, int8, uniform, continuous normals.
 const CaseExpectation kCases[] = {
     {"grazing_plane", 0.125, {{"sphere", "depth,normals,step cap"}, {"analytic", "depth,normals"}, {"hybrid", "depth,normals"}}},
