@@ -16,7 +16,7 @@
  * sample (below) are settled at once, the others are folded through the brick's list staged in
  * __local chunks as brick_evaluate does; a work-group stops after the first batch with a failing
  * point. Writes the brick's worst error (INFINITY when it failed) and whether it passed.
- * Compile-time: SAMPLES, APRON, FORMAT as brick_evaluate. */
+ * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */
 #include "sdf_build.h"
 
 #include "sdf_format.h"
@@ -28,6 +28,28 @@
 #define CHECK_COUNT (CHECK_AXIS * CHECK_AXIS * CHECK_AXIS - SAMPLE_COUNT) /* the lattice less the samples */
 #define BATCH 1024
 
+/* Lane 0 of a value (sdf_edit.h: every lane is the float result at its point). */
+#if SDF_LANES == 1
+inline float first_lane(sdf_real v) { return v; }
+#else
+inline float first_lane(sdf_real v) { return v.s0; }
+#endif
+
+inline sdf_real load_lanes(const float* a) {
+#if SDF_LANES == 1
+    return a[0];
+#else
+    return SDF_REAL_CAT(vload, SDF_LANES)(0, a);
+#endif
+}
+inline void store_lanes(sdf_real v, float* a) {
+#if SDF_LANES == 1
+    a[0] = v;
+#else
+    SDF_REAL_CAT(vstore, SDF_LANES)(v, 0, a);
+#endif
+}
+
 /* Whether the brick's list reaches an edit thinner than its voxel (see above). */
 inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float* meshes, __global const uint* list,
                              uint n, float3 centre, float voxel, float reach, uint lid, uint wg) {
@@ -35,7 +57,8 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
     for (uint j = lid; j < n; j += wg) {
         const SdfEdit e = edits[list[j]];
         const SdfPrepared pe = sdf_prepare(e);
-        thin |= sdf_feature_size(e, meshes) < voxel && fabs(sdf_prepared_value(&pe, meshes, centre)) < reach;
+        const float v = first_lane(sdf_edit_value(&pe, meshes, SDF_SPLAT(centre.x), SDF_SPLAT(centre.y), SDF_SPLAT(centre.z)));
+        thin |= sdf_feature_size(e, meshes) < voxel && fabs(v) < reach;
     }
     return thin;
 }
@@ -173,15 +196,25 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             barrier(CLK_LOCAL_MEM_FENCE);
             for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[list[base + j]]);
             barrier(CLK_LOCAL_MEM_FENCE);
-            for (uint k = lid; k < count; k += wg) {
-                const int3 h = check_coord(start + todo[k]);
-                const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
-                float f = value[k];
+            /* SDF_LANES points per value: lane l holds point k0 + l (the last point repeated past the end) */
+            for (uint k0 = lid * SDF_LANES; k0 < count; k0 += wg * SDF_LANES) {
+                float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES], v[SDF_LANES];
+                for (uint l = 0; l < SDF_LANES; ++l) {
+                    const uint k = min(k0 + l, count - 1u);
+                    const int3 h = check_coord(start + todo[k]);
+                    const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
+                    x[l] = p.x;
+                    y[l] = p.y;
+                    z[l] = p.z;
+                    v[l] = value[k];
+                }
+                sdf_real px = load_lanes(x), py = load_lanes(y), pz = load_lanes(z), f = load_lanes(v);
                 for (uint j = 0; j < n; ++j) {
                     const SdfPrepared e = chunk[j];
-                    f = sdf_fold(&e, meshes, f, p, clamp_c);
+                    f = sdf_fold_of(&e, e.kind & 0xffu, (e.kind >> 8) & 0xffu, meshes, f, px, py, pz, clamp_c);
                 }
-                value[k] = f;
+                store_lanes(f, v);
+                for (uint l = 0; l < SDF_LANES && k0 + l < count; ++l) value[k0 + l] = v[l];
             }
         }
         for (uint k = lid; k < count; k += wg) {

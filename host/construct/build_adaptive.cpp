@@ -13,7 +13,9 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     const std::uint64_t n = levels.parent_count();
     const BrickLayout layout = in_.settings.layout();
     const std::size_t group = std::min<std::size_t>(in_.settings.eval_group, layout.samples_per_brick());
-    const ocl::Program program = ocl::build_program(in_.device, "brick_check.cl", layout.defines());
+    const ocl::Program program = ocl::build_program(
+        in_.device, "brick_check.cl",
+        fmt::format("{} -DSDF_LANES={}", layout.defines(), in_.settings.lanes(in_.device.info())));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_check");
     LevelLeaves out{level,
                     0,
