@@ -167,6 +167,20 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
 #else
     const float half_step = 0.5f * dequant;
 #endif
+    /* A cell all of whose corners are stored deeper than far + its half diagonal (+ half a step)
+     * lies beyond the window on one side: at every check point in it or on its boundary, F and the
+     * interpolation clamp to the same +-window, an error of 0, so those points are skipped. */
+    __local uchar deep[CELLS * CELLS * CELLS];
+    barrier(CLK_LOCAL_MEM_FENCE); /* every sample stored */
+    for (uint c = lid; c < CELLS * CELLS * CELLS; c += wg) {
+        const int3 lo = (int3)(c % CELLS, (c / CELLS) % CELLS, c / (CELLS * CELLS));
+        float shallowest = INFINITY;
+        for (int c8 = 0; c8 < 8; ++c8)
+            shallowest = fmin(shallowest, fabs(stored[lo.x + (c8 & 1) + SAMPLES * (lo.y + ((c8 >> 1) & 1) +
+                                                                           SAMPLES * (lo.z + (c8 >> 2)))]));
+        deep[c] = shallowest - half_step >= far + 0.8660254f * voxel;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
     float mine = 0.0f;
     for (uint start = 0; start < CHECK_COUNT; start += BATCH) {
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -176,6 +190,8 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         const uint end = min((uint)CHECK_COUNT, start + BATCH);
         for (uint t = start + lid; t < end; t += wg) {
             const int3 h = check_coord(t);
+            const int3 cell = min(h >> 1, (int3)(CELLS - 1)); /* a cell holding all the point's samples */
+            if (deep[cell.x + CELLS * (cell.y + CELLS * cell.z)]) continue;
             float deepest;
             const float interpolated = interpolate(stored, h, &deepest);
             const int odd = (h.x & 1) + (h.y & 1) + (h.z & 1);
