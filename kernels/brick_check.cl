@@ -12,13 +12,12 @@
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
  * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
  * Every edit the cull drops fails that distance test, so culling on and off agree.
- * The points go in batches of BATCH, cell centres first (check_coord): those whose field is known to be beyond the window from a
- * sample (below) are settled at once, the others are folded through the brick's list staged in
- * __local chunks as brick_evaluate does; a work-group stops after the first batch with a failing
- * point. Writes the brick's worst error (INFINITY when it failed) and whether it passed.
+ * The points go in batches of BATCH, cell centres first (check_coord): those in a deep cell are
+ * skipped, those whose field is known to be beyond the window from a sample (below) are settled at
+ * once, the others are folded through the brick's list staged in __local chunks as brick_evaluate
+ * does; a work-group stops after the first batch with a failing point. Writes the brick's worst error (INFINITY when it failed) and whether it passed.
  * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */
 #include "sdf_build.h"
-
 #include "sdf_format.h"
 
 #define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
