@@ -150,6 +150,44 @@ TEST(ExchangeVdb, LevelSetVoxelsAreUniqueAndCoverEveryInteriorSample) {
             }
 }
 
+// An adaptive build: its coarser leaves give voxels on the finest lattice, each the leaf's field at
+// the voxel's centre (times the scale), within the finest band, and each voxel once; points near the
+// surface are read from leaves of every level.
+TEST(ExchangeVdb, AdaptiveLeavesGiveFinestVoxelsWithinTheBand) {
+    const Scene scene = two_geometries();
+    construct::BuildSettings s = settings(construct::BrickFormat::int8);
+    s.tolerance = 0.01;
+    const std::vector<HostBricks> bricks = host_bricks(scene, s);
+    const HostBricks& b = bricks[0];
+    std::size_t coarse = 0;
+    for (std::size_t brick = 0; brick < b.brick_count(); ++brick) coarse += b.shift(brick) > 0;
+    ASSERT_GT(coarse, 0u) << "no leaf coarser than the finest";
+    std::unordered_map<glm::ivec3, float, exchange::CoordHash> voxels;
+    std::size_t visits = 0, checked = 0;
+    exchange::for_each_level_set_voxel(b, 2.0, [&](const exchange::VdbVoxel& v) {
+        ++visits;
+        voxels.emplace(v.ijk, v.value);
+        const glm::dvec3 p = b.origin() + (glm::dvec3(v.ijk) + 0.5) * b.voxel();
+        const glm::ivec3 cell(glm::floor((p - b.origin()) / (b.voxel() * b.interior())));
+        const std::optional<std::size_t> leaf = b.covering(cell);
+        if (!leaf || b.shift(*leaf) == 0 || checked > 20000) return;
+        ++checked;
+        ASSERT_LT(std::abs(v.value), 2.0 * b.band());
+        EXPECT_EQ(v.value, static_cast<float>(b.at(p)->distance) * 2.0f);
+    });
+    EXPECT_EQ(visits, voxels.size()) << "a voxel visited twice";
+    EXPECT_GT(checked, 100u);
+    std::size_t from_coarse = 0;
+    for (const auto& [p, o] : surface_points(scene, 0.0)) {
+        if (o != 0) continue;
+        const std::optional<exchange::BrickSample> at = b.at(scene.objects[o].transform.inverse_apply(p));
+        ASSERT_TRUE(at) << "a surface point outside every leaf";
+        EXPECT_LT(std::abs(at->distance), s.tolerance + b.quantum());
+        from_coarse += at->band > b.band();
+    }
+    EXPECT_GT(from_coarse, 0u);
+}
+
 TEST(ExchangeVdb, WithoutTheLibraryTheErrorNamesThePackage) {
     for (exchange::VdbFormat f : {exchange::VdbFormat::openvdb, exchange::VdbFormat::nanovdb}) {
         if (exchange::vdb_available(f)) {
