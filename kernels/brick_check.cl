@@ -200,6 +200,8 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
                 if (e < 0.0f || e > tolerance) failed = 1;
                 mine = fmax(mine, e);
             } else {
+                /* the list's order follows the atomics, but nothing computed depends on it: each
+                 * point folds its own value, and the error's maximum and `failed` are order-free */
                 todo[atomic_inc(&todo_count)] = (ushort)(t - start);
             }
         }

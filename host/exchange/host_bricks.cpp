@@ -70,13 +70,11 @@ double HostBricks::bytes_per_brick(const construct::BrickLayout& layout) {
     return static_cast<double>(layout.samples_per_brick() * sizeof(float) + sizeof(glm::ivec3)) + 48.0;
 }
 
-std::optional<std::size_t> HostBricks::find(const glm::ivec3& coord, int shift) const {
-    for (const auto& [s, index] : index_) {
-        if (s != shift) continue;
-        const auto it = index.find(coord);
-        if (it != index.end()) return it->second;
-    }
-    return std::nullopt;
+std::optional<std::size_t> HostBricks::find(const glm::ivec3& coord) const {
+    if (index_.empty() || index_.front().first != 0) return std::nullopt;
+    const auto it = index_.front().second.find(coord);
+    if (it == index_.front().second.end()) return std::nullopt;
+    return it->second;
 }
 
 std::optional<std::size_t> HostBricks::covering(const glm::ivec3& coord) const {
@@ -93,14 +91,18 @@ std::optional<BrickSample> HostBricks::at(const glm::dvec3& p) const {
     if (!(std::abs(cell.x) < 2e9 && std::abs(cell.y) < 2e9 && std::abs(cell.z) < 2e9)) return std::nullopt;
     const std::optional<std::size_t> brick = covering(glm::ivec3(glm::floor(cell)));
     if (!brick) return std::nullopt;
+    return at(*brick, p);
+}
+
+BrickSample HostBricks::at(std::size_t brick, const glm::dvec3& p) const {
     // Sample space of the brick (sdf_trace.h): sample (i, j, k) at s = (i, j, k).
-    const double scale = std::ldexp(1.0, shift(*brick)), voxel = voxel_ * scale;
-    const glm::dvec3 lo = origin_ + glm::dvec3(coords_[*brick]) * (leaf_size_ * scale);
+    const double scale = std::ldexp(1.0, shift(brick)), voxel = voxel_ * scale;
+    const glm::dvec3 lo = origin_ + glm::dvec3(coords_[brick]) * (leaf_size_ * scale);
     const glm::dvec3 s = glm::clamp((p - lo) / voxel + (apron_ - 0.5), 0.0, samples_ - 1.0);
     const glm::ivec3 c = glm::min(glm::ivec3(glm::floor(s)), glm::ivec3(samples_ - 2));
     const glm::dvec3 f = s - glm::dvec3(c);
     double v[8];
-    for (int n = 0; n < 8; ++n) v[n] = sample(*brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2));
+    for (int n = 0; n < 8; ++n) v[n] = sample(brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2));
     // Trilinear value and its exact derivative, x first, then y, then z.
     const auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
     const double x00 = lerp(v[0], v[1], f.x), x10 = lerp(v[2], v[3], f.x);

@@ -55,14 +55,16 @@ public:
         return values_[brick * samples_per_brick_ +
                        static_cast<std::size_t>(i + samples_ * (j + samples_ * k))];
     }
-    // The brick holding the cell coord of the lattice of bricks with this shift, if there is one.
-    std::optional<std::size_t> find(const glm::ivec3& coord, int shift = 0) const;
+    // The finest-level brick holding the lattice cell coord, if there is one.
+    std::optional<std::size_t> find(const glm::ivec3& coord) const;
     // The brick whose cell contains the finest-lattice cell coord, whatever its level.
     std::optional<std::size_t> covering(const glm::ivec3& coord) const;
 
     // The field at a geometry-frame point: the trilinear value and its gradient in the leaf brick
     // whose cell contains p; nullopt outside every brick.
     std::optional<BrickSample> at(const glm::dvec3& p) const;
+    // The same in a given brick (p clamped to the span of its samples).
+    BrickSample at(std::size_t brick, const glm::dvec3& p) const;
 
 private:
     glm::dvec3 origin_{0.0};

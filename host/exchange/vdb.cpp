@@ -102,8 +102,8 @@ void coarse_brick_voxels(const HostBricks& bricks, std::size_t b, float s,
                             const glm::ivec3 ijk = first + glm::ivec3(x, y, z);
                             const glm::dvec3 p =
                                 bricks.origin() + (glm::dvec3(ijk) + 0.5) * bricks.voxel();
-                            const std::optional<BrickSample> at = bricks.at(p);
-                            if (at && std::abs(at->distance) < band) visit({ijk, static_cast<float>(at->distance) * s});
+                            const double d = bricks.at(b, p).distance;  // p lies in b's cell
+                            if (std::abs(d) < band) visit({ijk, static_cast<float>(d) * s});
                         }
             }
 }
