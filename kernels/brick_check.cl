@@ -12,20 +12,20 @@
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
  * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
  * Every edit the cull drops fails that distance test, so culling on and off agree.
- * The points go in batches of BATCH, cell centres first (check_coord): those in a deep cell are
- * skipped, those whose field is known to be beyond the window from a sample (below) are settled at
- * once, the others are folded through the brick's list staged in __local chunks as brick_evaluate
- * does; a work-group stops after the first batch with a failing point. Writes the brick's worst error (INFINITY when it failed) and whether it passed.
+ * The points go in seven classes, cell centres first (class_odd), a class at a time in values of
+ * SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose field is known to be
+ * beyond the window from a sample (below) are settled at once, and a value with any other point is
+ * folded through the brick's list staged in __local chunks as brick_evaluate does, its coordinates
+ * computed in lanes; a work-group stops after the first class with a failing point. Writes the
+ * brick's worst error (INFINITY when it failed) and whether it passed.
  * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */
 #include "sdf_build.h"
 #include "sdf_format.h"
 
 #define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
 #define INTERIOR (SAMPLES - 2 * APRON)
-#define CHECK_AXIS (2 * SAMPLES - 1)
 #define CELLS (SAMPLES - 1)
-#define CHECK_COUNT (CHECK_AXIS * CHECK_AXIS * CHECK_AXIS - SAMPLE_COUNT) /* the lattice less the samples */
-#define BATCH 1024
+#define CLASS_POINTS (CELLS * SAMPLES * SAMPLES) /* points of the largest class */
 
 /* Lane 0 of a value (sdf_edit.h: every lane is the float result at its point). */
 #if SDF_LANES == 1
@@ -34,14 +34,14 @@ inline float first_lane(sdf_real v) { return v; }
 inline float first_lane(sdf_real v) { return v.s0; }
 #endif
 
-inline sdf_real load_lanes(const float* a) {
+inline sdf_real load_lanes(__local const float* a) {
 #if SDF_LANES == 1
     return a[0];
 #else
     return SDF_REAL_CAT(vload, SDF_LANES)(0, a);
 #endif
 }
-inline void store_lanes(sdf_real v, float* a) {
+inline void store_lanes(sdf_real v, __local float* a) {
 #if SDF_LANES == 1
     a[0] = v;
 #else
@@ -62,36 +62,81 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
     return thin;
 }
 
-/* Check point t on the half-voxel lattice (odd coordinates lie between samples), cell centres first
- * (odd on three axes: where the trilinear error of a smooth field peaks, so a failing brick usually
- * fails in the first batch), then face centres (two), then edge midpoints (one). */
-inline int3 check_coord(uint t) {
-    const uint centres = CELLS * CELLS * CELLS, faces = SAMPLES * CELLS * CELLS, edges = CELLS * SAMPLES * SAMPLES;
-    if (t < centres) return 2 * (int3)(t % CELLS, (t / CELLS) % CELLS, t / (CELLS * CELLS)) + 1;
-    t -= centres;
-    if (t < 3u * faces) { /* even on axis t / faces */
-        const uint axis = t / faces, r = t % faces;
-        const int3 c = (int3)(r % SAMPLES, (r / SAMPLES) % CELLS, r / (SAMPLES * CELLS)); /* even, odd, odd */
-        const int3 h = (int3)(2 * c.x, 2 * c.y + 1, 2 * c.z + 1);
-        return axis == 0u ? h : axis == 1u ? h.yxz : h.yzx;
-    }
-    t -= 3u * faces;
-    const uint axis = t / edges, r = t % edges; /* odd on axis */
-    const int3 c = (int3)(r % CELLS, (r / CELLS) % SAMPLES, r / (CELLS * SAMPLES)); /* odd, even, even */
-    const int3 h = (int3)(2 * c.x + 1, 2 * c.y, 2 * c.z);
-    return axis == 0u ? h : axis == 1u ? h.yxz : h.yzx;
+/* The check points in seven classes of one parity each, cell centres first (odd on three axes: where
+ * the trilinear error of a smooth field peaks, so a failing brick usually fails in the first class),
+ * then face centres (odd on two), then edge midpoints (odd on one). Point i of a class with odd axes
+ * `odd` is h = 2 (i mod n.x, i / n.x mod n.y, i / (n.x n.y)) + odd, n being CELLS on an odd axis and
+ * SAMPLES on an even one. */
+inline int3 class_odd(uint k) {
+    return k == 0u ? (int3)(1) : k < 4u ? (int3)(k != 1u, k != 2u, k != 3u) : (int3)(k == 4u, k == 5u, k == 6u);
+}
+inline int3 class_sizes(int3 odd) { return select((int3)(SAMPLES), (int3)(CELLS), odd != 0); }
+
+/* i / n for n = CELLS on an odd axis, SAMPLES on an even one (constant divisors: no division
+ * instruction), for one point and for the lanes of a value. */
+inline int class_div(int i, int odd) { return odd ? i / CELLS : i / SAMPLES; }
+#if SDF_LANES == 1
+#define class_div_lanes class_div
+#else
+inline sdf_index class_div_lanes(sdf_index i, int odd) {
+    if (odd) return i / CELLS;
+    return i / SAMPLES;
+}
+#endif
+
+/* Point i of the class with odd axes `odd` and sizes n, on the half-voxel lattice. */
+inline int3 class_point(int i, int3 odd, int3 n) {
+    const int r = class_div(i, odd.x), q = class_div(r, odd.y);
+    return 2 * (int3)(i - r * n.x, r - q * n.y, q) + odd;
 }
 
-/* The trilinear value at check point h (the mean of its 2, 4 or 8 samples), and in *deepest the
- * stored sample of largest magnitude among them. */
-inline float interpolate(__local const float* stored, int3 h, float* deepest) {
-    const int3 lo = h >> 1, hi = (h + 1) >> 1;
-    float sum = 0.0f, deep = 0.0f;
+/* The lattice coordinates of points i of a class, one per lane. */
+inline void class_lanes(sdf_index i, int3 odd, int3 n, sdf_index* hx, sdf_index* hy, sdf_index* hz) {
+    const sdf_index r = class_div_lanes(i, odd.x), q = class_div_lanes(r, odd.y);
+    *hx = 2 * (i - r * n.x) + odd.x;
+    *hy = 2 * (r - q * n.y) + odd.y;
+    *hz = 2 * q + odd.z;
+}
+
+/* a[index] in every lane (a gather, one lane at a time). */
+inline sdf_real gather_lanes(__local const float* a, sdf_index index) {
+#if SDF_LANES == 1
+    return a[index];
+#else
+    int at[SDF_LANES];
+    float v[SDF_LANES];
+    SDF_REAL_CAT(vstore, SDF_LANES)(index, 0, at);
+    for (uint l = 0; l < SDF_LANES; ++l) v[l] = a[at[l]];
+    return SDF_REAL_CAT(vload, SDF_LANES)(0, v);
+#endif
+}
+
+/* list[min(k + l, count - 1)] in lane l. */
+inline sdf_index list_lanes(__local const ushort* list, uint k, uint count) {
+#if SDF_LANES == 1
+    return list[min(k, count - 1u)];
+#else
+    int at[SDF_LANES];
+    for (uint l = 0; l < SDF_LANES; ++l) at[l] = list[min(k + l, count - 1u)];
+    return SDF_REAL_CAT(vload, SDF_LANES)(0, at);
+#endif
+}
+
+/* The points of a value, lanes past `count` repeating the last one. */
+inline sdf_index first_lanes(uint k, uint count) { return min((int)k + SDF_LANE_OFFSETS, (int)count - 1); }
+
+/* The trilinear value at check point h (the mean of its 2, 4 or 8 samples, summed in corner order),
+ * and in *deepest the stored sample of largest magnitude among them (the first of equal ones). */
+inline sdf_real interpolate(__local const float* stored, sdf_index hx, sdf_index hy, sdf_index hz,
+                            sdf_real* deepest) {
+    const sdf_index lx = hx >> 1, ly = hy >> 1, lz = hz >> 1;
+    const sdf_index ux = (hx + 1) >> 1, uy = (hy + 1) >> 1, uz = (hz + 1) >> 1;
+    sdf_real sum = 0.0f, deep = 0.0f;
     for (int c8 = 0; c8 < 8; ++c8) {
-        const int3 c = (int3)((c8 & 1) ? hi.x : lo.x, (c8 & 2) ? hi.y : lo.y, (c8 & 4) ? hi.z : lo.z);
-        const float v = stored[c.x + SAMPLES * (c.y + SAMPLES * c.z)];
+        const sdf_index at = ((c8 & 1) ? ux : lx) + SAMPLES * (((c8 & 2) ? uy : ly) + SAMPLES * ((c8 & 4) ? uz : lz));
+        const sdf_real v = gather_lanes(stored, at);
         sum += v;
-        deep = fabs(v) > fabs(deep) ? v : deep;
+        deep = select(deep, v, fabs(v) > fabs(deep));
     }
     *deepest = deep;
     return sum * 0.125f;
@@ -99,10 +144,26 @@ inline float interpolate(__local const float* stored, int3 h, float* deepest) {
 
 /* The error at a check point from its interpolated and exact values; negative when the sign test
  * fails there. */
-inline float point_error(float interpolated, float exact, float tolerance, float window) {
-    const float error = fabs(fmin(fmax(interpolated, -window), window) - fmin(fmax(exact, -window), window));
-    const int lost = (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance;
-    return lost ? -1.0f : error;
+inline sdf_real point_error(sdf_real interpolated, sdf_real exact, float tolerance, float window) {
+    const sdf_real error = fabs(fmin(fmax(interpolated, -window), window) - fmin(fmax(exact, -window), window));
+    return select(error, SDF_SPLAT(-1.0f), (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance);
+}
+
+/* Folds the errors of a value's lanes in `lanes` (a bit mask) into the work-item's worst error, and
+ * fails the brick when one is over the tolerance or failed the sign test. */
+inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine, __local int* failed) {
+    float e[SDF_LANES];
+#if SDF_LANES == 1
+    e[0] = error;
+#else
+    SDF_REAL_CAT(vstore, SDF_LANES)(error, 0, e);
+#endif
+    for (uint l = 0; l < SDF_LANES; ++l) {
+        if (!((lanes >> l) & 1u)) continue;
+        if (e[l] < 0.0f || e[l] > tolerance) *failed = 1;
+        mine = fmax(mine, e[l]);
+    }
+    return mine;
 }
 
 /* Before the samples are evaluated: per brick, whether it reaches a thin edit (then it fails, and
@@ -138,13 +199,14 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
                           __local SdfPrepared* chunk, uint chunk_size) {
     __local int failed;
     __local uint todo_count;
-    __local ushort todo[BATCH];
-    __local float value[BATCH];
+    __local ushort todo[CLASS_POINTS];              /* the class's points that need the fold */
+    __local float interp[CLASS_POINTS + SDF_LANES]; /* per point of the class */
+    __local float value[CLASS_POINTS + SDF_LANES];  /* per point of todo */
+    __local float deep_cells[CELLS * CELLS * CELLS]; /* 1: every corner beyond the window (below) */
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
     __global const uint* list = edit_indices + b.edit_offset;
-    const float3 origin = (float3)(origin_x, origin_y, origin_z);
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
     for (uint idx = lid; idx < SAMPLE_COUNT; idx += wg) {
 #if FORMAT == 2
@@ -159,7 +221,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
      * quantisation step of F clamped to the band, and F is 1-Lipschitz: a point sqrt(odd axes) / 2
      * voxels from a sample stored at s has |F| >= |s| - step / 2 - that distance, so where that is at
      * least `far`, F clamped to the window is +-window with the sample's sign, and deep enough for
-     * the sign test: the list need not be folded there. */
+     * the sign test: the list need not be folded there (its error is the one the fold would give). */
     const float far = fmax(window, 0.5f * tolerance) + voxel * 0.015625f;
 #if FORMAT == 2
     const float half_step = 0.0f;
@@ -169,7 +231,6 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     /* A cell all of whose corners are stored deeper than far + its half diagonal (+ half a step)
      * lies beyond the window on one side: at every check point in it or on its boundary, F and the
      * interpolation clamp to the same +-window, an error of 0, so those points are skipped. */
-    __local uchar deep[CELLS * CELLS * CELLS];
     barrier(CLK_LOCAL_MEM_FENCE); /* every sample stored */
     for (uint c = lid; c < CELLS * CELLS * CELLS; c += wg) {
         const int3 lo = (int3)(c % CELLS, (c / CELLS) % CELLS, c / (CELLS * CELLS));
@@ -177,69 +238,75 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         for (int c8 = 0; c8 < 8; ++c8)
             shallowest = fmin(shallowest, fabs(stored[lo.x + (c8 & 1) + SAMPLES * (lo.y + ((c8 >> 1) & 1) +
                                                                            SAMPLES * (lo.z + (c8 >> 2)))]));
-        deep[c] = shallowest - half_step >= far + 0.8660254f * voxel;
+        deep_cells[c] = shallowest - half_step >= far + 0.8660254f * voxel ? 1.0f : 0.0f;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
     float mine = 0.0f;
-    for (uint start = 0; start < CHECK_COUNT; start += BATCH) {
+    for (uint k = 0; k < 7u; ++k) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (failed) break; /* read by every work-item between the same barriers */
         if (lid == 0) todo_count = 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
-        const uint end = min((uint)CHECK_COUNT, start + BATCH);
-        for (uint t = start + lid; t < end; t += wg) {
-            const int3 h = check_coord(t);
-            const int3 cell = min(h >> 1, (int3)(CELLS - 1)); /* a cell holding all the point's samples */
-            if (deep[cell.x + CELLS * (cell.y + CELLS * cell.z)]) continue;
-            float deepest;
-            const float interpolated = interpolate(stored, h, &deepest);
-            const int odd = (h.x & 1) + (h.y & 1) + (h.z & 1);
-            const float reach = (odd == 1 ? 0.5f : odd == 2 ? 0.70710678f : 0.8660254f) * voxel;
-            if (fabs(deepest) - half_step - reach >= far) {
-                const float e = point_error(interpolated, copysign(far, deepest), tolerance, window);
-                if (e < 0.0f || e > tolerance) failed = 1;
-                mine = fmax(mine, e);
-            } else {
+        const int3 odd = class_odd(k), n = class_sizes(odd);
+        const uint count = (uint)(n.x * n.y * n.z), values = (count + SDF_LANES - 1u) / SDF_LANES;
+        const float reach = (k == 0u ? 0.8660254f : k < 4u ? 0.70710678f : 0.5f) * voxel;
+        /* each value: its points in deep cells are skipped, those known to lie beyond the window
+         * settled at once, and the value is listed when any other point remains */
+        for (uint v = lid; v < values; v += wg) {
+            sdf_index hx, hy, hz;
+            class_lanes(first_lanes(v * SDF_LANES, count), odd, n, &hx, &hy, &hz);
+            const sdf_index cell = min(hx >> 1, CELLS - 1) + CELLS * (min(hy >> 1, CELLS - 1) + CELLS * min(hz >> 1, CELLS - 1));
+            sdf_real deepest;
+            const sdf_real interpolated = interpolate(stored, hx, hy, hz, &deepest);
+            const sdf_index settled = fabs(deepest) - half_step - reach >= far;
+            uint settle = 0u; /* lanes settled */
+            float ds[SDF_LANES];
+            int st[SDF_LANES];
+#if SDF_LANES == 1
+            ds[0] = gather_lanes(deep_cells, cell);
+            st[0] = settled;
+#else
+            SDF_REAL_CAT(vstore, SDF_LANES)(gather_lanes(deep_cells, cell), 0, ds);
+            SDF_REAL_CAT(vstore, SDF_LANES)(settled, 0, st);
+#endif
+            for (uint l = 0; l < SDF_LANES && v * SDF_LANES + l < count; ++l) {
+                if (ds[l] != 0.0f) continue; /* in a deep cell */
+                if (st[l]) settle |= 1u << l;
                 /* the list's order follows the atomics, but nothing computed depends on it: each
                  * point folds its own value, and the error's maximum and `failed` are order-free */
-                todo[atomic_inc(&todo_count)] = (ushort)(t - start);
+                else todo[atomic_inc(&todo_count)] = (ushort)(v * SDF_LANES + l);
             }
+            if (settle)
+                mine = keep_errors(point_error(interpolated, copysign(SDF_SPLAT(far), deepest), tolerance, window),
+                                   settle, tolerance, mine, &failed);
+            store_lanes(interpolated, interp + v * SDF_LANES);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
-        const uint count = todo_count;
-        for (uint k = lid; k < count; k += wg) value[k] = clamp_c;
+        const uint listed = todo_count;
         for (uint base = 0; base < b.edit_count; base += chunk_size) {
-            const uint n = min(chunk_size, b.edit_count - base);
+            const uint m = min(chunk_size, b.edit_count - base);
             barrier(CLK_LOCAL_MEM_FENCE);
-            for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[list[base + j]]);
+            for (uint j = lid; j < m; j += wg) chunk[j] = sdf_prepare(edits[list[base + j]]);
             barrier(CLK_LOCAL_MEM_FENCE);
-            /* SDF_LANES points per value: lane l holds point k0 + l (the last point repeated past the end) */
-            for (uint k0 = lid * SDF_LANES; k0 < count; k0 += wg * SDF_LANES) {
-                float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES], v[SDF_LANES];
-                for (uint l = 0; l < SDF_LANES; ++l) {
-                    const uint k = min(k0 + l, count - 1u);
-                    const int3 h = check_coord(start + todo[k]);
-                    const float3 p = origin + (convert_float3(first) + convert_float3(h) * 0.5f + 0.5f) * voxel;
-                    x[l] = p.x;
-                    y[l] = p.y;
-                    z[l] = p.z;
-                    v[l] = value[k];
-                }
-                sdf_real px = load_lanes(x), py = load_lanes(y), pz = load_lanes(z), f = load_lanes(v);
-                for (uint j = 0; j < n; ++j) {
+            for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
+                sdf_index hx, hy, hz;
+                class_lanes(list_lanes(todo, t, listed), odd, n, &hx, &hy, &hz);
+                const sdf_real px = origin_x + ((float)first.x + SDF_CONVERT_REAL(hx) * 0.5f + 0.5f) * voxel;
+                const sdf_real py = origin_y + ((float)first.y + SDF_CONVERT_REAL(hy) * 0.5f + 0.5f) * voxel;
+                const sdf_real pz = origin_z + ((float)first.z + SDF_CONVERT_REAL(hz) * 0.5f + 0.5f) * voxel;
+                sdf_real f = base == 0u ? SDF_SPLAT(clamp_c) : load_lanes(value + t);
+                for (uint j = 0; j < m; ++j) {
                     const SdfPrepared e = chunk[j];
                     f = sdf_fold_of(&e, e.kind & 0xffu, (e.kind >> 8) & 0xffu, meshes, f, px, py, pz, clamp_c);
                 }
-                store_lanes(f, v);
-                for (uint l = 0; l < SDF_LANES && k0 + l < count; ++l) value[k0 + l] = v[l];
+                store_lanes(f, value + t);
             }
         }
-        for (uint k = lid; k < count; k += wg) {
-            float deepest;
-            const float interpolated = interpolate(stored, check_coord(start + todo[k]), &deepest);
-            const float e = point_error(interpolated, fmin(fmax(value[k], -band), band), tolerance, window);
-            if (e < 0.0f || e > tolerance) failed = 1;
-            mine = fmax(mine, e);
+        for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
+            const sdf_real exact = b.edit_count ? load_lanes(value + t) : SDF_SPLAT(clamp_c);
+            const uint lanes = min((uint)SDF_LANES, listed - t);
+            mine = keep_errors(point_error(gather_lanes(interp, list_lanes(todo, t, listed)),
+                                           fmin(fmax(exact, -band), band), tolerance, window),
+                               (1u << lanes) - 1u, tolerance, mine, &failed);
         }
     }
     barrier(CLK_LOCAL_MEM_FENCE);

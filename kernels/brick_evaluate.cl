@@ -20,23 +20,6 @@
 #include "sdf_build.h"
 #include "sdf_format.h"
 
-#if SDF_LANES == 1
-typedef int sdf_index;
-#define SDF_CONVERT_REAL convert_float
-#else
-typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
-#define SDF_CONVERT_REAL SDF_REAL_CAT(convert_float, SDF_LANES)
-#if SDF_LANES == 2
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1))
-#elif SDF_LANES == 4
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3))
-#elif SDF_LANES == 8
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7))
-#else
-#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
-#endif
-#endif
-
 /* Where the c-th owned sample is stored: a brick that owns every region (all) numbers its samples as
  * they are stored; another reads the table apron_owned_order filled. */
 inline uint owned_index(uint c, int all, __local const ushort* order) { return all ? c : (uint)order[c]; }

@@ -31,6 +31,25 @@ typedef SDF_REAL_CAT(float, SDF_LANES) sdf_real;
 #endif
 #define SDF_SPLAT(x) ((sdf_real)(x))
 
+/* Integer lanes beside sdf_real (one index per lane), their conversion, and the lane numbers. */
+#if SDF_LANES == 1
+typedef int sdf_index;
+#define SDF_CONVERT_REAL convert_float
+#define SDF_LANE_OFFSETS 0
+#else
+typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
+#define SDF_CONVERT_REAL SDF_REAL_CAT(convert_float, SDF_LANES)
+#if SDF_LANES == 2
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1))
+#elif SDF_LANES == 4
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3))
+#elif SDF_LANES == 8
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7))
+#else
+#define SDF_LANE_OFFSETS ((sdf_index)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+#endif
+#endif
+
 inline float sdf_dot2(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 inline float sdf_dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline float sdf_len3(float3 a) { return sqrt(sdf_dot3(a, a)); }
