@@ -158,8 +158,10 @@ inline float tr_root(float4 k, float u0, float f0, float u1, float f1) {
 }
 
 /* First u in [0, len] where the cubic is <= 0, or -1: the interval is cut at the roots of the
- * derivative, and the first piece that ends at or below zero holds the root. */
-inline float tr_cubic_first_root(float4 k, float len) {
+ * derivative, and the first piece that ends at or below zero holds the root. With any_hit, the end
+ * of that piece, unrefined (an any-hit ray needs only whether there is a root: the root iterations
+ * were 30% of the shading kernel with hybrid secondary rays on an H200, docs/performance.md). */
+inline float tr_cubic_first_root(float4 k, float len, int any_hit) {
     float cuts[4];
     int n = 0;
     cuts[n++] = 0.0f;
@@ -186,7 +188,7 @@ inline float tr_cubic_first_root(float4 k, float len) {
     if (f0 <= 0.0f) return u0;
     for (int i = 1; i < n; ++i) {
         const float u1 = cuts[i], f1 = tr_cubic(k, u1);
-        if (f1 <= 0.0f) return tr_root(k, u0, f0, u1, f1);
+        if (f1 <= 0.0f) return any_hit ? u1 : tr_root(k, u0, f0, u1, f1);
         u0 = u1;
         f0 = f1;
     }
@@ -198,7 +200,7 @@ inline float tr_cubic_first_root(float4 k, float len) {
  * solves each cell's cubic. At most 3 * S cells (a ray crosses at most 3 (S - 1) - 2 of them); running
  * out of cells before leaving the brick sets *capped. */
 inline float tr_cells(__global const sample_t* brick, float3 s0, float3 ds, float u, float span, uint* steps,
-                      uint* capped) {
+                      uint* capped, int any_hit) {
     const float3 inv_ds = tr_inverse(ds);
     int3 c = clamp(convert_int3(floor(s0 + u * ds)), (int3)(0), (int3)(S - 2));
     const int3 step = (int3)(ds.x >= 0.0f ? 1 : -1, ds.y >= 0.0f ? 1 : -1, ds.z >= 0.0f ? 1 : -1);
@@ -213,7 +215,7 @@ inline float tr_cells(__global const sample_t* brick, float3 s0, float3 ds, floa
         if (vmin <= 0.0f && u_exit >= u) {
             const float3 a = s0 + u * ds - convert_float3(c);
             const float4 k = tr_cell_cubic(brick, c, a, ds);
-            const float r = tr_cubic_first_root(k, u_exit - u);
+            const float r = tr_cubic_first_root(k, u_exit - u, any_hit);
             if (r >= 0.0f) return u + r;
         }
         if (u_exit >= span) return -1.0f;
@@ -228,11 +230,13 @@ inline float tr_cells(__global const sample_t* brick, float3 s0, float3 ds, floa
 }
 #endif
 
-/* Searches one brick for the surface on the ray segment [t0, t1]: returns the hit t or -1.
+/* Searches one brick for the surface on the ray segment [t0, t1]: returns the hit t or -1 (with
+ * any_hit, for the analytic cells, some t >= 0 where the field is <= 0: not refined to the first).
  * o, d: the ray in the geometry frame; lo: the brick's minimum corner. A search that stops at a loop
  * bound (not at a hit or the segment's end) sets *capped. */
 inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float3 d, float t0, float t1,
-                      float inv_voxel, float len_scale, float voxel_to_stored, uint* steps, uint* capped) {
+                      float inv_voxel, float len_scale, float voxel_to_stored, uint* steps, uint* capped,
+                      int any_hit) {
     const float3 s0 = (o + t0 * d - lo) * inv_voxel + (float)APRON - 0.5f;
     const float3 ds = d * inv_voxel;
 #if METHOD == 0
@@ -255,7 +259,7 @@ inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float
     *capped = 1u;
     return -1.0f;
 #elif METHOD == 1
-    const float u = tr_cells(brick, s0, ds, 0.0f, t1 - t0, steps, capped);
+    const float u = tr_cells(brick, s0, ds, 0.0f, t1 - t0, steps, capped, any_hit);
     return u >= 0.0f ? t0 + u : -1.0f;
 #else
     /* Hybrid: sphere steps while the field is above HYBRID_NEAR voxels, then the cells from the last
@@ -273,7 +277,7 @@ inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float
         u += f * to_t;
         if (u > span) return -1.0f;
     }
-    const float r = tr_cells(brick, s0, ds, u_far, span, steps, capped);
+    const float r = tr_cells(brick, s0, ds, u_far, span, steps, capped, any_hit);
     return r >= 0.0f ? t0 + r : -1.0f;
 #endif
 }
@@ -332,14 +336,15 @@ inline TraceChildren tr_visit(__global const SdfBvhNode* nodes, uint i, float3 o
 inline int tr_near1(const TraceChildren* ch) { return ch->h[0] && ch->h[1] && ch->n[1] < ch->n[0]; }
 
 /* After the leaf children are handled (their h cleared): descends into the nearer internal child that
- * is still in front of bound (pushing the other), or pops the next node still in front of bound.
+ * is still in front of bound (pushing the other), or pops the last node pushed (not tested against
+ * bound again: its children are, when it is visited; a test here cost the shading kernel 17% on an
+ * H200, docs/performance.md).
  * Returns 0 when the tree is done. */
-inline int tr_next(const TraceChildren* ch, float bound, uint* stack, float* stack_t, int* sp, uint* node) {
+inline int tr_next(const TraceChildren* ch, float bound, uint* stack, int* sp, uint* node) {
     const int h0 = ch->h[0] && ch->n[0] <= bound, h1 = ch->h[1] && ch->n[1] <= bound;
     if (h0 && h1) {
         const int near1 = ch->n[1] < ch->n[0];
         stack[*sp] = (uint)ch->c[near1 ? 0 : 1];
-        stack_t[*sp] = ch->n[near1 ? 0 : 1];
         ++*sp;
         *node = (uint)ch->c[near1];
         return 1;
@@ -348,12 +353,10 @@ inline int tr_next(const TraceChildren* ch, float bound, uint* stack, float* sta
         *node = (uint)ch->c[h0 ? 0 : 1];
         return 1;
     }
-    while (*sp > 0) {
+    if (*sp > 0) {
         --*sp;
-        if (stack_t[*sp] <= bound) {
-            *node = stack[*sp];
-            return 1;
-        }
+        *node = stack[*sp];
+        return 1;
     }
     return 0;
 }
@@ -367,7 +370,6 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
     const float3 inv_d = tr_inverse(d);
     const float voxel_to_stored = g.voxel / g.dequant;
     uint stack[BVH_STACK];
-    float stack_t[BVH_STACK];
     int sp = 0;
     uint node = g.root;
     TraceChildren ch;
@@ -384,7 +386,7 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
             const uint b = g.brick_offset + (uint)(~ch.c[w]);
             const float inv_voxel = ldexp(g.inv_voxel, -(int)sc->shifts[b]);
             const float t = tr_brick(sc->pool + (size_t)b * S3, ch.lo[w], o, d, ch.n[w], limit, inv_voxel,
-                                     len_scale, voxel_to_stored, &hit->steps, &hit->capped);
+                                     len_scale, voxel_to_stored, &hit->steps, &hit->capped, any_hit);
             if (t >= 0.0f && (hit->t < 0.0f || t < hit->t)) {
                 hit->t = t;
                 hit->brick = b;
@@ -396,7 +398,7 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
                 if (any_hit) return;
             }
         }
-    } while (tr_next(&ch, tr_bound(hit, t_max), stack, stack_t, &sp, &node));
+    } while (tr_next(&ch, tr_bound(hit, t_max), stack, &sp, &node));
 }
 
 /* Nearest hit (with any_hit: any hit) of the world ray o + t d, t in [t_min, t_max]: the top level
@@ -413,7 +415,6 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
     hit.inv_voxel = 0.0f;
     const float3 inv_d = tr_inverse(d);
     uint stack[BVH_STACK];
-    float stack_t[BVH_STACK];
     int sp = 0;
     uint node = 0u;
     TraceChildren ch;
@@ -437,7 +438,7 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
             tr_blas(sc, g, inst, og, dg, t_min, t_max, 1.0f / sqrt(tr_dot(dg, dg)), any_hit, &hit);
             if (any_hit && hit.t >= 0.0f) return hit;
         }
-    } while (tr_next(&ch, tr_bound(&hit, t_max), stack, stack_t, &sp, &node));
+    } while (tr_next(&ch, tr_bound(&hit, t_max), stack, &sp, &node));
     return hit;
 }
 
