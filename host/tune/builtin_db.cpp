@@ -1,6 +1,6 @@
 // The compiled-in layer of the tuning database: the values `sdfbrick tune` measured on known devices,
-// copied from docs/measurements/tuning-h100.json and tuning-pocl-here.json (logs: h100-tune-nvidia.txt,
-// h100-tune-pocl.txt, pocl-here-tune.txt; summary: docs/tuning.md, "Tuned values"). Each was a full
+// copied from docs/measurements/tuning-h100.json, tuning-h200.json and tuning-pocl-here.json (logs:
+// h100-tune-nvidia.txt, h200-tune-nvidia.txt, h100-tune-pocl.txt, pocl-here-tune.txt; summary: docs/tuning.md, "Tuned values"). Each was a full
 // search of its kernel's 30 configurations over scenes/drops.json. Add an entry only from such a
 // measurement, with its files.
 #include <array>
@@ -32,6 +32,7 @@ struct Measured {
 };
 
 constexpr const char* kH100 = "NVIDIA H100 80GB HBM3";
+constexpr const char* kH200 = "NVIDIA H200";
 constexpr const char* kH100Pocl = "cpu-skylake-avx512-Intel(R) Xeon(R) Processor";
 constexpr const char* kHerePocl = "pthread-skylake-avx512-AMD EPYC";
 constexpr const char* kPocl = "Portable Computing Language";
@@ -41,6 +42,8 @@ constexpr const char* kH100Files =
     "H100 machine, NVIDIA OpenCL; docs/measurements/tuning-h100.json, h100-tune-nvidia.txt";
 constexpr const char* kH100PoclFiles =
     "H100 machine (16-core Xeon), PoCL 5.0; docs/measurements/tuning-h100.json, h100-tune-pocl.txt";
+constexpr const char* kH200Files =
+    "H200 machine, NVIDIA OpenCL; docs/measurements/tuning-h200.json, h200-tune-nvidia.txt";
 constexpr const char* kHereFiles =
     "2-core AMD EPYC development machine, PoCL 3.1; docs/measurements/tuning-pocl-here.json, pocl-here-tune.txt";
 
@@ -58,6 +61,10 @@ constexpr Measured kMeasured[] = {
      640.072271, kEvaluateDefault, 984.576531, 0.125, 0, 0, 2, "2026-11-22T07:10:38Z", kH100PoclFiles},
     {kH100Pocl, "5.0+debian", "GenuineIntel", kPocl, kTraceKernel, {{{"group_x", 8}, {"group_y", 4}}},
      45.144151, kTraceDefault, 66.751169, 0.125, 1280, 720, 2, "2026-11-22T07:10:52Z", kH100PoclFiles},
+    {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kEvaluateKernel, {{{"chunk", 16}, {"group", 64}}},
+     4.212416, kEvaluateDefault, 5.140256, 0.0625, 0, 0, 5, "2026-12-03T08:56:48Z", kH200Files},
+    {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kTraceKernel, {{{"group_x", 4}, {"group_y", 16}}},
+     3.201312, kTraceDefault, 3.353472, 0.0625, 3840, 2160, 5, "2026-12-03T08:56:48Z", kH200Files},
 };
 
 Config to_config(const Measured::Params& p) {
