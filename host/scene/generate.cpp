@@ -15,8 +15,8 @@ namespace sdfbrick {
 
 namespace {
 
-constexpr std::array<std::string_view, 27> kNames = {
-    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt", "rubble",
+constexpr std::array<std::string_view, 28> kNames = {
+    "spheres", "drops", "cubes", "rain", "fractal", "board", "thin", "sculpt", "rubble", "sculpt_dense",
     // The stability atlas's hard cases (docs/stability.md), one failure mode each.
     "stability/grazing_plane", "stability/grazing_cylinder", "stability/sub_voxel", "stability/blend_tiny",
     "stability/blend_huge", "stability/ellipsoid", "stability/menger6", "stability/instance_stack",
@@ -258,14 +258,13 @@ glm::dquat y_to(const glm::dvec3& dir) {
     return unit(glm::angleAxis(std::atan2(s, glm::dot(y, dir)), axis / s));
 }
 
-// A sculpted ball: 1024 brush strokes of 8 smoothly blended capsule segments each (8,193 edits),
-// walking over a sphere of radius 2; a quarter of the strokes carve. Every sample near the
-// surface sees tens of small edits: the heavy edit-list case.
-Scene sculpt(Rng& rng) {
+// A sculpted ball: `strokes` brush strokes of 8 smoothly blended capsule segments each, walking
+// over a sphere of radius 2; a quarter of the strokes carve.
+Geometry sculpted_ball(Rng& rng, int strokes) {
     Geometry g;
     const double ball = 2.0;
     g.edits.push_back(make_edit(Primitive::Sphere, {ball, 0, 0, 0}, {0.0, 0.0, 0.0}));
-    for (int stroke = 0; stroke < 1024; ++stroke) {
+    for (int stroke = 0; stroke < strokes; ++stroke) {
         glm::dvec3 at = rng.unit_vector();
         glm::dvec3 dir = glm::normalize(glm::cross(at, rng.unit_vector()));
         const double radius = rng.uniform(0.03, 0.07), blend = r4(rng.uniform(0.03, 0.08));
@@ -282,7 +281,17 @@ Scene sculpt(Rng& rng) {
             dir = glm::normalize(dir - glm::dot(dir, at) * at);
         }
     }
-    return finish("sculpt", 0.0, g, orbit({0.0, 0.0, 0.0}, 7.0, 30.0, 20.0));
+    return g;
+}
+
+// 1024 strokes (8,193 edits): every sample near the surface sees tens of small edits, the heavy
+// edit-list case.
+Scene sculpt(Rng& rng) { return finish("sculpt", 0.0, sculpted_ball(rng, 1024), orbit({0.0, 0.0, 0.0}, 7.0, 30.0, 20.0)); }
+
+// 8,191 strokes (65,529 edits, all but the most a geometry may have) on the same ball: hundreds of
+// edits per leaf, and lists of tens of thousands at the top levels, where count and cull fold them.
+Scene sculpt_dense(Rng& rng) {
+    return finish("sculpt_dense", 0.0, sculpted_ball(rng, 8191), orbit({0.0, 0.0, 0.0}, 7.0, 30.0, 20.0));
 }
 
 // drops' long lists without a sphere: 1024 smoothly blended, rotated boxes, round boxes, tori and
@@ -654,7 +663,7 @@ std::span<const std::string_view> generated_scene_names() { return kNames; }
 Scene generate_scene(std::string_view name, std::uint64_t seed) {
     using Generator = Scene (*)(Rng&);
     static constexpr std::array<Generator, kNames.size()> kGenerators = {
-        spheres, drops, cubes, rain, fractal, board, thin, sculpt, rubble, grazing_plane, grazing_cylinder, sub_voxel,
+        spheres, drops, cubes, rain, fractal, board, thin, sculpt, rubble, sculpt_dense, grazing_plane, grazing_cylinder, sub_voxel,
         blend_tiny, blend_huge, ellipsoid, menger6, instance_stack, far, camera_inside, camera_on_face, face_rays,
         edits_65536, instances_10000, ground_trees, engraved_slab, grooved_board, steep_blends};
     const auto it = std::find(kNames.begin(), kNames.end(), name);
