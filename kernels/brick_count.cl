@@ -15,8 +15,12 @@
  * a level has few parents (long lists, few work-groups: bound by latency), the work-group has
  * `parts` work-items per child: they compute the edits' values at the child's centre (which do not
  * depend on the fold) in turn into __local values, and the first folds them in list order, so the
- * bits do not depend on parts. Writes the parent's child mask (bit = Morton index) and its child
- * count. */
+ * bits do not depend on parts. Where even that leaves the level short of work-items (a work-group
+ * holds at most the kernel's limit), a parent's children are split over `splits` work-groups
+ * (group = parent * splits + split, children split * per .. split * per + per - 1, per = B^3 / splits),
+ * each staging the whole list. Writes the parent's child mask (bit = Morton index) and its child
+ * count; split work-groups write their part to split_words (mask words, count), which
+ * brick_count_merge adds up. */
 #include "sdf_build.h"
 
 /* One step of the fold: edit (terms, fold) of value v. saturation is C where not wide. */
@@ -30,13 +34,14 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                           float origin_x, float origin_y, float origin_z, float child_cell,
                           float threshold, float clamp_c, float saturation, float reject_slack,
                           float magnitude,
-                          __global uint* child_counts,
+                          __global uint* child_counts, uint splits, __global uint* split_words,
                           __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, uint chunk_size,
                           __local float* values, __local uint* kept) {
-    const uint parent = get_group_id(0);
+    const uint group = get_group_id(0), parent = group / splits, split = group % splits;
     const uint lid = get_local_id(0), wg = get_local_size(0);
-    const uint children = 1u << (3u * log2b), child = lid & (children - 1u);
-    const uint part = lid >> (3u * log2b), parts = wg >> (3u * log2b);
+    const uint per = (1u << (3u * log2b)) / splits; /* children of this work-group */
+    const uint mine = lid % per, child = split * per + mine;
+    const uint part = lid / per, parts = wg / per;
     const SdfBrick b = parents[parent];
     const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)(1u << log2b) + sdf_morton_child(child, log2b);
     const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
@@ -64,31 +69,56 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
         } else {
             for (uint j = part; j < n; j += parts) {
                 const SdfPrepared e = chunk[j];
-                values[j * children + child] = sdf_prepared_value(&e, meshes, p);
+                values[j * per + mine] = sdf_prepared_value(&e, meshes, p);
             }
             barrier(CLK_LOCAL_MEM_FENCE);
             if (part == 0u) {
 #pragma unroll 4
                 for (uint j = 0; j < n; ++j) {
-                    fold_step(&field, &excess, terms[j], folds[j], values[j * children + child], wide, saturation);
+                    fold_step(&field, &excess, terms[j], folds[j], values[j * per + mine], wide, saturation);
                 }
             }
         }
     }
     if (part == 0u)
-        kept[child] = keep_root || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack
+        kept[mine] = keep_root || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack
                                          : fabs(field) <= threshold) ? 1u : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
         uint mask[2] = {0u, 0u}, count = 0;
-        for (uint i = 0; i < children; ++i) {
+        for (uint i = 0; i < per; ++i) {
             if (kept[i]) {
-                mask[i >> 5] |= 1u << (i & 31u);
+                const uint c = split * per + i;
+                mask[c >> 5] |= 1u << (c & 31u);
                 ++count;
             }
         }
-        parents[parent].child_mask[0] = mask[0];
-        parents[parent].child_mask[1] = mask[1];
-        child_counts[parent] = count;
+        if (splits == 1u) {
+            parents[parent].child_mask[0] = mask[0];
+            parents[parent].child_mask[1] = mask[1];
+            child_counts[parent] = count;
+        } else {
+            split_words[3u * group] = mask[0];
+            split_words[3u * group + 1u] = mask[1];
+            split_words[3u * group + 2u] = count;
+        }
     }
+}
+
+/* After a split count: each parent's mask and count from its work-groups' parts (bits of different
+ * children, so the or and the sum give what one work-group writes). */
+__kernel void brick_count_merge(__global SdfBrick* parents, uint parent_count, uint splits,
+                                __global const uint* split_words, __global uint* child_counts) {
+    const uint parent = get_global_id(0);
+    if (parent >= parent_count) return;
+    uint mask[2] = {0u, 0u}, count = 0;
+    for (uint s = 0; s < splits; ++s) {
+        __global const uint* w = split_words + 3u * (parent * splits + s);
+        mask[0] |= w[0];
+        mask[1] |= w[1];
+        count += w[2];
+    }
+    parents[parent].child_mask[0] = mask[0];
+    parents[parent].child_mask[1] = mask[1];
+    child_counts[parent] = count;
 }

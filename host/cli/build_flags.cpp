@@ -40,6 +40,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_option("--count-parts", s.count_parts, "work-items per candidate child in the count stage: 1, 2, 4, 8 or 16 "
                                                      "(default 0: several on GPUs at levels with few bricks, else 1; "
                                                      "changes no bit)");
+    cmd->add_option("--count-splits", s.count_splits, "work-groups per parent in the count stage, each with a share of "
+                                                       "its children: a power of two up to 64 (default 0: as few as hold "
+                                                       "--count-parts within the kernel's work-group limit; changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("!--no-skip-far", s.skip_far,
                   "the leaf evaluation evaluates sphere and capsule edits at every sample, also where they cannot "
@@ -53,7 +56,7 @@ void BuildFlags::add_to(CLI::App* cmd) {
                             {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
                             {"eval_lanes", "--lanes"}, {"count_parts", "--count-parts"},
-                            {"apron_share_edits", "--apron-share-edits"}});
+                            {"count_splits", "--count-splits"}, {"apron_share_edits", "--apron-share-edits"}});
 }
 
 construct::BuildSettings BuildFlags::resolve() const {

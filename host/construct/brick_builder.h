@@ -52,6 +52,10 @@ struct BuildSettings {
     // compute a long list's values in turn and one folds them. 0 = automatic: on GPUs as many as fill
     // the device at levels with few parents, 1 on CPUs (whose cores hide no latency that way).
     int count_parts = 0;
+    // Work-groups per parent in the count stage (a power of two up to 64, at most a parent's children;
+    // changes no bit): each takes a share of the children and stages the whole list. 0 = automatic:
+    // as few as hold count_parts work-items per child within the count kernel's work-group limit.
+    int count_splits = 0;
     bool cull = true;
     // In the leaf evaluation with one lane (GPUs), sphere and capsule edits (adds and subtracts) skip
     // the samples where they cannot change the fold, found from the running value before the square

@@ -20,7 +20,8 @@ Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adapti
       words_(ocl::pooled, in.device, 0),
       bits_(ocl::pooled, in.device, 0),
       sources_(ocl::pooled, in.device, 0),
-      kept_words_(ocl::pooled, in.device, 0) {}
+      kept_words_(ocl::pooled, in.device, 0),
+      split_words_(ocl::pooled, in.device, 0) {}
 
 // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
 void Levels::start() {
@@ -53,7 +54,7 @@ bool Levels::run() {
         if (region_ && level < in_.plan.finest()) children = keep_region(level, children);
         bytes.scratch =
             std::max<std::uint64_t>(bytes.scratch, counts_.bytes() + offsets_.bytes() + words_.bytes() + bits_.bytes() +
-                                                       sources_.bytes() + kept_words_.bytes());
+                                                       sources_.bytes() + kept_words_.bytes() + split_words_.bytes());
         kept_.push_back(children);
         parent_count_ = children;
         if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0)
@@ -67,37 +68,41 @@ bool Levels::run() {
     return complete;
 }
 
-// The count stage's work-group: BuildSettings::count_parts work-items per child. Automatic: on GPUs
+// The count stage's work-groups: BuildSettings::count_parts work-items per child. Automatic: on GPUs
 // as many as keep the level within resident_items (the top levels: long lists folded by few
-// work-groups, bound by latency), where the values fit in __local memory. Edits are staged in chunks of the parents'
-// mean list, rounded up to 16, up to 256 (fewer barriers) as local memory allows (a larger chunk than lists need costs
-// occupancy). Neither changes a bit: the fold is in list order either way.
+// work-groups, bound by latency). A parent's children are split over count_splits work-groups;
+// automatic: as few as hold the parts within the kernel's work-group limit, with their values in
+// __local memory. Edits are staged in chunks of the parents' mean list, rounded up to 16, up to 256
+// (fewer barriers) as local memory allows (a larger chunk than lists need costs occupancy). None of
+// these changes a bit: the fold is in list order either way.
 Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_list) const {
     // A staged edit: its prepared form (no larger than SdfEdit), its excess terms and fold parameters.
     constexpr std::size_t kStaged = sizeof(SdfEdit) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
-    const std::size_t local = in_.device.info().local_mem_bytes - children * sizeof(cl_uint);
     const std::size_t limit = ocl::kernel_work_group_limit(in_.device, in_.programs.count_k.get(), "brick_count");
     const std::uint64_t resident = resident_items(limit);
-    const auto fits = [&](std::size_t parts) {
-        return children * parts <= limit && (parts == 1 || kMinChunk * (kStaged + children * sizeof(float)) <= local);
-    };
     CountShape shape;
+    const auto per = [&] { return children / shape.splits; };
+    const auto local = [&] { return in_.device.info().local_mem_bytes - per() * sizeof(cl_uint); };
+    const auto values_fit = [&] { return shape.parts == 1 || kMinChunk * (kStaged + per() * sizeof(float)) <= local(); };
     if (in_.settings.count_parts > 0) {
         shape.parts = static_cast<std::size_t>(in_.settings.count_parts);
-        if (!fits(shape.parts))
-            throw SettingError("count_parts",
-                               fmt::format("count_parts {} does not fit brick_count's work-group on {} "
-                                           "({} work-items, {} bytes of local memory)",
-                                           in_.settings.count_parts, in_.device.info().name, limit, local));
     } else if (in_.device.info().type == "gpu") {
-        while (shape.parts * 2 <= kMaxParts && fits(shape.parts * 2) &&
-               parent_count_ * children * shape.parts * 2 <= resident)
-            shape.parts *= 2;
+        while (shape.parts * 2 <= kMaxParts && parent_count_ * children * shape.parts * 2 <= resident) shape.parts *= 2;
     }
-    const std::size_t per_edit = kStaged + (shape.parts > 1 ? children * sizeof(float) : 0);
+    if (in_.settings.count_splits > 0) {
+        shape.splits = std::min(static_cast<std::size_t>(in_.settings.count_splits), children);  // the root has one
+    } else {
+        while (per() * shape.parts > limit && shape.splits < children) shape.splits *= 2;
+    }
+    if (per() * shape.parts > limit || !values_fit())
+        throw SettingError(in_.settings.count_parts > 0 ? "count_parts" : "count_splits",
+                           fmt::format("count_parts {} with count_splits {} does not fit brick_count's work-group on "
+                                       "{} ({} work-items, {} bytes of local memory)",
+                                       shape.parts, shape.splits, in_.device.info().name, limit, local()));
+    const std::size_t per_edit = kStaged + (shape.parts > 1 ? per() * sizeof(float) : 0);
     const std::size_t wanted =
         round_up(static_cast<std::size_t>(std::clamp<std::uint64_t>(mean_list, 1, 256)), kMinChunk);
-    shape.chunk = std::min({wanted, std::size_t{256}, local / per_edit});
+    shape.chunk = std::min({wanted, std::size_t{256}, local() / per_edit});
     return shape;
 }
 
@@ -109,15 +114,25 @@ std::uint64_t Levels::count_and_scan(int level) {
         count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(in_.device, parent_count_, "the child counts");
     if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(in_.device, parent_count_, "the child offsets");
-    const std::size_t values = shape.parts > 1 ? shape.chunk * per_parent : 1;
-    ocl::set_args(in_.programs.count_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, lb, in_.origin.x,
-                  in_.origin.y, in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c,
-                  in_.plan.saturation(level), in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude), counts_,
-                  ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
-                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, static_cast<cl_uint>(shape.chunk),
-                  ocl::LocalMemory{values * sizeof(float)}, ocl::LocalMemory{per_parent * sizeof(cl_uint)});
-    in_.scheduler.launch(measure::Stage::count, level, in_.programs.count_k.get(),
-                         parent_count_ * per_parent * shape.parts, per_parent * shape.parts);
+    const std::size_t per = per_parent / shape.splits, values = shape.parts > 1 ? shape.chunk * per : 1;
+    const std::size_t split_words = shape.splits > 1 ? 3 * parent_count_ * shape.splits : 1;
+    if (split_words_.size() < split_words) split_words_ = allocate<cl_uint>(in_.device, split_words, "the split counts");
+    const auto& k = in_.programs;
+    ocl::set_args(k.count_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, lb, in_.origin.x, in_.origin.y,
+                  in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level),
+                  in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude), counts_,
+                  static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
+                  ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
+                  static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},
+                  ocl::LocalMemory{per * sizeof(cl_uint)});
+    in_.scheduler.launch(measure::Stage::count, level, k.count_k.get(), parent_count_ * per_parent * shape.parts,
+                         per * shape.parts);
+    if (shape.splits > 1) {
+        ocl::set_args(k.count_merge_k.get(), *parents_, static_cast<cl_uint>(parent_count_),
+                      static_cast<cl_uint>(shape.splits), split_words_, counts_);
+        in_.scheduler.launch(measure::Stage::count, level, k.count_merge_k.get(), round_up(parent_count_, kGroup1d),
+                             kGroup1d);
+    }
     const std::uint64_t children =
         in_.scan.exclusive(counts_, offsets_, parent_count_, in_.scheduler, measure::Stage::scan, level);
     // Refuse early (not after minutes of work) a build whose pool cannot fit: a surface's brick count

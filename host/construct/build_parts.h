@@ -73,7 +73,7 @@ inline float float_down(double x) {
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
+    ocl::Kernel count_k, count_merge_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -100,7 +100,8 @@ struct BuildPrograms {
         : count(ocl::build_program(d, "brick_count.cl")), subdivide(ocl::build_program(d, "brick_subdivide.cl")),
           cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
           order(ocl::build_program(d, "brick_order.cl")),
-          count_k(ocl::make_kernel(count, "brick_count")), subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
+          count_k(ocl::make_kernel(count, "brick_count")), count_merge_k(ocl::make_kernel(count, "brick_count_merge")),
+          subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           mark_k(ocl::make_kernel(cull, "cull_mark")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
@@ -228,8 +229,9 @@ public:
 
 private:
     struct CountShape {
-        std::size_t parts = 1;  // work-items per child
-        std::size_t chunk = 0;  // edits staged at once
+        std::size_t parts = 1;   // work-items per child
+        std::size_t splits = 1;  // work-groups per parent
+        std::size_t chunk = 0;   // edits staged at once
     };
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
     std::uint64_t count_and_scan(int level);
@@ -260,6 +262,7 @@ private:
     std::vector<std::uint64_t> kept_;
     ocl::Buffer<cl_uint> counts_, offsets_, words_, bits_;
     ocl::Buffer<cl_uint> sources_, kept_words_;  // per cull word: its first parent entry, kept count
+    ocl::Buffer<cl_uint> split_words_;           // per split count work-group: its mask words and count
 };
 
 // Adaptive builds: each brick of a leaf level (coarsest_leaf .. finest - 1) is checked against the

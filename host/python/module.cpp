@@ -355,6 +355,7 @@ BuildArgs take_build_settings(Kwargs& k) {
     }
     if (const auto v = k.integer("lanes")) s.eval_lanes = *v;
     if (const auto v = k.integer("count_parts")) s.count_parts = *v;
+    if (const auto v = k.integer("count_splits")) s.count_splits = *v;
     if (const auto v = k.boolean("cull")) s.cull = *v;
     if (const auto v = k.boolean("skip_far")) s.skip_far = *v;
     if (const auto v = k.integer("apron_share_edits")) s.apron_share_edits = *v;
@@ -1001,7 +1002,7 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def("__exit__", [](Context& c, const py::args&) { c.close(); })
         .def("build", &Context::build, py::arg("scene"),
              "Builds the scene's bricks: keyword arguments as the report's settings (brick_size, levels, branching, "
-             "samples, format, band_voxels, guard, chunk, group, lanes, count_parts, cull, skip_far, "
+             "samples, format, band_voxels, guard, chunk, group, lanes, count_parts, count_splits, cull, skip_far, "
              "apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, repeat, warmup, "
              "reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
         .def("play", &Context::play, py::arg("scene"),

@@ -331,7 +331,8 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
 }
 
 // The count stage's work-items per child (BuildSettings::count_parts: automatic, which is one on a
-// CPU, and 2 and 16, which compute the values in turn and fold them in one) change no bit; nor does
+// CPU, and 2 and 16, which compute the values in turn and fold them in one) and its work-groups per
+// parent (count_splits 2 and 8 with 4 parts: each takes a share of the children) change no bit; nor does
 // culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
 // its levels need (one at the top, up to a word where a level has many bricks). Both the lists and
 // the output are compared: long lists at the top levels, smooth and hard edits, branching 2,
@@ -346,11 +347,13 @@ TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
                         {&drops, octree}, {&drops, dependent}, {&carved, adaptive}}) {
         const GeometryBuild automatic = builder().build(*g, s, test::recorder());
         ASSERT_GT(automatic.leaf_count, 0u);
-        for (int parts : {2, 16}) {
+        for (auto [parts, splits] : {std::pair{2, 0}, {16, 0}, {4, 2}, {4, 8}}) {
             BuildSettings split = s;
             split.count_parts = parts;
+            split.count_splits = splits;
             const GeometryBuild b = builder().build(*g, split, test::recorder());
-            const std::string where = fmt::format("{}, branching {}, count parts {}", g->name, s.branching, parts);
+            const std::string where =
+                fmt::format("{}, branching {}, count parts {}, splits {}", g->name, s.branching, parts, splits);
             EXPECT_EQ(construct::list_digest(b), construct::list_digest(automatic)) << where;
             EXPECT_EQ(construct::output_digest(b, split), construct::output_digest(automatic, s)) << where;
         }
@@ -562,6 +565,9 @@ TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
     s = settings(0.125);
     s.count_parts = 6;
     EXPECT_EQ(refused(s), "count_parts");
+    s = settings(0.125);
+    s.count_splits = 3;
+    EXPECT_EQ(refused(s), "count_splits");
     s = settings(0.125);
     s.band_voxels = 0.0;
     EXPECT_EQ(refused(s), "band_voxels");
