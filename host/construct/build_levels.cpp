@@ -84,16 +84,18 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     const auto per = [&] { return children / shape.splits; };
     const auto local = [&] { return in_.device.info().local_mem_bytes - per() * sizeof(cl_uint); };
     const auto values_fit = [&] { return shape.parts == 1 || kMinChunk * (kStaged + per() * sizeof(float)) <= local(); };
+    if (in_.settings.count_splits > 0)
+        shape.splits = std::min(static_cast<std::size_t>(in_.settings.count_splits), children);  // the root has one
     if (in_.settings.count_parts > 0) {
         shape.parts = static_cast<std::size_t>(in_.settings.count_parts);
     } else if (in_.device.info().type == "gpu") {
-        while (shape.parts * 2 <= kMaxParts && parent_count_ * children * shape.parts * 2 <= resident) shape.parts *= 2;
+        // with the splits given, no more parts than their work-groups hold
+        while (shape.parts * 2 <= kMaxParts && parent_count_ * children * shape.parts * 2 <= resident &&
+               (in_.settings.count_splits == 0 || per() * shape.parts * 2 <= limit))
+            shape.parts *= 2;
     }
-    if (in_.settings.count_splits > 0) {
-        shape.splits = std::min(static_cast<std::size_t>(in_.settings.count_splits), children);  // the root has one
-    } else {
+    if (in_.settings.count_splits == 0)
         while (per() * shape.parts > limit && shape.splits < children) shape.splits *= 2;
-    }
     if (per() * shape.parts > limit || !values_fit())
         throw SettingError(in_.settings.count_parts > 0 ? "count_parts" : "count_splits",
                            fmt::format("count_parts {} with count_splits {} does not fit brick_count's work-group on "
