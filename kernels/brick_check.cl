@@ -153,11 +153,7 @@ inline sdf_real point_error(sdf_real interpolated, sdf_real exact, float toleran
  * fails the brick when one is over the tolerance or failed the sign test. */
 inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine, __local int* failed) {
     float e[SDF_LANES];
-#if SDF_LANES == 1
-    e[0] = error;
-#else
-    SDF_REAL_CAT(vstore, SDF_LANES)(error, 0, e);
-#endif
+    sdf_spill_lanes(error, e);
     for (uint l = 0; l < SDF_LANES; ++l) {
         if (!((lanes >> l) & 1u)) continue;
         if (e[l] < 0.0f || e[l] > tolerance) *failed = 1;
@@ -261,13 +257,8 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             uint settle = 0u; /* lanes settled */
             float ds[SDF_LANES];
             int st[SDF_LANES];
-#if SDF_LANES == 1
-            ds[0] = gather_lanes(deep_cells, cell);
-            st[0] = settled;
-#else
-            SDF_REAL_CAT(vstore, SDF_LANES)(gather_lanes(deep_cells, cell), 0, ds);
-            SDF_REAL_CAT(vstore, SDF_LANES)(settled, 0, st);
-#endif
+            sdf_spill_lanes(gather_lanes(deep_cells, cell), ds);
+            sdf_spill_index_lanes(settled, st);
             for (uint l = 0; l < SDF_LANES && v * SDF_LANES + l < count; ++l) {
                 if (ds[l] != 0.0f) continue; /* in a deep cell */
                 if (st[l]) settle |= 1u << l;

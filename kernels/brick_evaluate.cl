@@ -47,11 +47,7 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, int all, _
     const sdf_real q = rint(d * quant_scale);
 #endif
     float lanes[SDF_LANES];
-#if SDF_LANES == 1
-    lanes[0] = q;
-#else
-    SDF_REAL_CAT(vstore, SDF_LANES)(q, 0, lanes);
-#endif
+    sdf_spill_lanes(q, lanes);
     for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[owned_index(c + l, all, order)] = (sample_t)lanes[l];
 }
 

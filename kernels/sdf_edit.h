@@ -50,6 +50,22 @@ typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
 #endif
 #endif
 
+/* The lanes of v into a[0 .. SDF_LANES) in private memory, to be taken one at a time. */
+inline void sdf_spill_lanes(sdf_real v, float* a) {
+#if SDF_LANES == 1
+    a[0] = v;
+#else
+    SDF_REAL_CAT(vstore, SDF_LANES)(v, 0, a);
+#endif
+}
+inline void sdf_spill_index_lanes(sdf_index v, int* a) {
+#if SDF_LANES == 1
+    a[0] = v;
+#else
+    SDF_REAL_CAT(vstore, SDF_LANES)(v, 0, a);
+#endif
+}
+
 inline float sdf_dot2(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 inline float sdf_dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline float sdf_len3(float3 a) { return sqrt(sdf_dot3(a, a)); }
