@@ -245,8 +245,8 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         const int3 odd = class_odd(k), n = class_sizes(odd);
         const uint count = (uint)(n.x * n.y * n.z), values = (count + SDF_LANES - 1u) / SDF_LANES;
         const float reach = (k == 0u ? 0.8660254f : k < 4u ? 0.70710678f : 0.5f) * voxel;
-        /* each value: its points in deep cells are skipped, those known to lie beyond the window
-         * settled at once, and the value is listed when any other point remains */
+        /* SDF_LANES points at a time: those in deep cells are skipped, those known to lie beyond the
+         * window settled at once, and the others listed for the fold */
         for (uint v = lid; v < values; v += wg) {
             sdf_index hx, hy, hz;
             class_lanes(first_lanes(v * SDF_LANES, count), odd, n, &hx, &hy, &hz);
