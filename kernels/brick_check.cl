@@ -253,15 +253,14 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             const sdf_index cell = min(hx >> 1, CELLS - 1) + CELLS * (min(hy >> 1, CELLS - 1) + CELLS * min(hz >> 1, CELLS - 1));
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, hx, hy, hz, &deepest);
-            const sdf_index settled = fabs(deepest) - half_step - reach >= far;
+            const sdf_real settled = select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), fabs(deepest) - half_step - reach >= far);
             uint settle = 0u; /* lanes settled */
-            float ds[SDF_LANES];
-            int st[SDF_LANES];
+            float ds[SDF_LANES], st[SDF_LANES];
             sdf_spill_lanes(gather_lanes(deep_cells, cell), ds);
-            sdf_spill_index_lanes(settled, st);
+            sdf_spill_lanes(settled, st);
             for (uint l = 0; l < SDF_LANES && v * SDF_LANES + l < count; ++l) {
                 if (ds[l] != 0.0f) continue; /* in a deep cell */
-                if (st[l]) settle |= 1u << l;
+                if (st[l] != 0.0f) settle |= 1u << l;
                 /* the list's order follows the atomics, but nothing computed depends on it: each
                  * point folds its own value, and the error's maximum and `failed` are order-free */
                 else todo[atomic_inc(&todo_count)] = (ushort)(v * SDF_LANES + l);

@@ -58,13 +58,6 @@ inline void sdf_spill_lanes(sdf_real v, float* a) {
     SDF_REAL_CAT(vstore, SDF_LANES)(v, 0, a);
 #endif
 }
-inline void sdf_spill_index_lanes(sdf_index v, int* a) {
-#if SDF_LANES == 1
-    a[0] = v;
-#else
-    SDF_REAL_CAT(vstore, SDF_LANES)(v, 0, a);
-#endif
-}
 
 inline float sdf_dot2(float ax, float ay, float bx, float by) { return ax * bx + ay * by; }
 inline float sdf_dot3(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
