@@ -194,10 +194,10 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
                           __local float* stored, __local float* worst,
                           __local SdfPrepared* chunk, uint chunk_size) {
     __local int failed;
-    __local uint todo_count;
-    __local ushort todo[CLASS_POINTS];              /* the class's points that need the fold */
+    __local uint fold_count;
+    __local ushort to_fold[CLASS_POINTS];           /* the class's points that need the fold */
     __local float interp[CLASS_POINTS + SDF_LANES]; /* per point of the class */
-    __local float value[CLASS_POINTS + SDF_LANES];  /* per point of todo */
+    __local float value[CLASS_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
     __local float deep_cells[CELLS * CELLS * CELLS]; /* 1: every corner beyond the window (below) */
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
@@ -240,7 +240,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     for (uint k = 0; k < 7u; ++k) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (failed) break; /* read by every work-item between the same barriers */
-        if (lid == 0) todo_count = 0u;
+        if (lid == 0) fold_count = 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
         const int3 odd = class_odd(k), n = class_sizes(odd);
         const uint count = (uint)(n.x * n.y * n.z), values = (count + SDF_LANES - 1u) / SDF_LANES;
@@ -263,7 +263,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
                 if (st[l] != 0.0f) settle |= 1u << l;
                 /* the list's order follows the atomics, but nothing computed depends on it: each
                  * point folds its own value, and the error's maximum and `failed` are order-free */
-                else todo[atomic_inc(&todo_count)] = (ushort)(v * SDF_LANES + l);
+                else to_fold[atomic_inc(&fold_count)] = (ushort)(v * SDF_LANES + l);
             }
             if (settle)
                 mine = keep_errors(point_error(interpolated, copysign(SDF_SPLAT(far), deepest), tolerance, window),
@@ -271,7 +271,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             store_lanes(interpolated, interp + v * SDF_LANES);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
-        const uint listed = todo_count;
+        const uint listed = fold_count;
         for (uint base = 0; base < b.edit_count; base += chunk_size) {
             const uint m = min(chunk_size, b.edit_count - base);
             barrier(CLK_LOCAL_MEM_FENCE);
@@ -279,7 +279,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             barrier(CLK_LOCAL_MEM_FENCE);
             for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
                 sdf_index hx, hy, hz;
-                class_lanes(list_lanes(todo, t, listed), odd, n, &hx, &hy, &hz);
+                class_lanes(list_lanes(to_fold, t, listed), odd, n, &hx, &hy, &hz);
                 const sdf_real px = origin_x + ((float)first.x + SDF_CONVERT_REAL(hx) * 0.5f + 0.5f) * voxel;
                 const sdf_real py = origin_y + ((float)first.y + SDF_CONVERT_REAL(hy) * 0.5f + 0.5f) * voxel;
                 const sdf_real pz = origin_z + ((float)first.z + SDF_CONVERT_REAL(hz) * 0.5f + 0.5f) * voxel;
@@ -294,7 +294,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
             const sdf_real exact = b.edit_count ? load_lanes(value + t) : SDF_SPLAT(clamp_c);
             const uint lanes = min((uint)SDF_LANES, listed - t);
-            mine = keep_errors(point_error(gather_lanes(interp, list_lanes(todo, t, listed)),
+            mine = keep_errors(point_error(gather_lanes(interp, list_lanes(to_fold, t, listed)),
                                            fmin(fmax(exact, -band), band), tolerance, window),
                                (1u << lanes) - 1u, tolerance, mine, &failed);
         }
