@@ -302,14 +302,14 @@ private:
     std::unique_ptr<ocl::Buffer<SdfBrick>> merged_;
 };
 
-// The leaf evaluation: every leaf's samples into the brick pool, then the leaves' boxes and shifts
-// (out.pool, out.aabbs, out.shifts). Owns the apron masks where leaves share apron samples.
 // The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;
 // owned: per brick, the regions it evaluates (null: all). Launched as stage at level.
 void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
                       std::uint64_t count, const ocl::Buffer<cl_uint>* owned, ocl::Buffer<std::uint8_t>& pool,
                       measure::Stage stage, int level);
 
+// The leaf evaluation: every leaf's samples into the brick pool, then the leaves' boxes and shifts
+// (out.pool, out.aabbs, out.shifts). Owns the apron masks where leaves share apron samples.
 class LeafEvaluation {
 public:
     explicit LeafEvaluation(BuildInputs& in) : in_(in) {}

@@ -8,8 +8,8 @@
 
 #include "bvh/bvh_builder.h"
 #include "core/hash.h"
+#include "reference/host_tracer.h"
 #include "render/pictures.h"
-#include "scene/to_device.h"
 
 namespace sdfbrick::pipeline {
 
@@ -17,8 +17,8 @@ nlohmann::json settings_json(const construct::BuildSettings& s) {
     return {{"brick_size", s.leaf_size}, {"levels", s.levels}, {"branching", s.branching}, {"samples", s.samples},
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
             {"chunk", s.chunk}, {"group", s.eval_group}, {"lanes", s.eval_lanes}, {"count_parts", s.count_parts},
-            {"count_splits", s.count_splits}, {"cull", s.cull}, {"skip_far", s.skip_far}, {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
-            {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
+            {"count_splits", s.count_splits}, {"cull", s.cull}, {"skip_far", s.skip_far},
+            {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies}, {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 
 // ---- build ----
@@ -219,7 +219,7 @@ BrickRender brick_render(RenderFigures figures, const Run& run, const Scene& sce
     if (compare && reference) {
         b.accuracy = reference::compare(run.trace->buffer, *reference, b.figures.voxel_world);
         reference::add_surface_error(*b.accuracy, run.trace->buffer, *reference,
-                                     make_camera(scene.camera, reference->width, reference->height));
+                                     reference::make_host_camera(scene.camera, reference->width, reference->height));
         if (run.bricks.settings.adaptive())
             b.seams = render::count_seam_mismatches(scene, run.bricks, run.trace->buffer, *reference);
     }

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "core/stats.h"
+#include "reference/host_tracer.h"
 
 namespace sdfbrick::reference {
 
@@ -116,20 +117,15 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
 }
 
 void add_surface_error(AccuracyMetrics& m, const RenderBuffer& test, const RenderBuffer& reference,
-                       const SdfCamera& camera) {
+                       const HostCamera& camera) {
     check_pair(test, reference, 1.0);
-    if (camera.width != static_cast<sdf_u32>(reference.width) || camera.height != static_cast<sdf_u32>(reference.height))
+    if (camera.width != reference.width || camera.height != reference.height)
         throw std::invalid_argument("accuracy: the camera's image size differs from the images'");
-    const glm::dvec3 forward(camera.forward[0], camera.forward[1], camera.forward[2]);
-    const glm::dvec3 right(camera.right[0], camera.right[1], camera.right[2]);
-    const glm::dvec3 up(camera.up[0], camera.up[1], camera.up[2]);
     std::vector<double> err;
     for (std::size_t i = 0; i < reference.pixels(); ++i) {
         if (unconverged(reference, i) || !test.is_hit(i) || !reference.is_hit(i)) continue;
-        const double x = static_cast<double>(i % static_cast<std::size_t>(reference.width));
-        const double y = static_cast<double>(i / static_cast<std::size_t>(reference.width));
-        const double u = 2.0 * (x + 0.5) / reference.width - 1.0, v = 1.0 - 2.0 * (y + 0.5) / reference.height;
-        const glm::dvec3 d = glm::normalize(forward + u * right + v * up);
+        const auto width = static_cast<std::size_t>(reference.width);
+        const glm::dvec3 d = camera.direction(static_cast<int>(i % width), static_cast<int>(i / width));
         const double c = std::abs(glm::dot(d, reference.normal(i)));
         err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) * c);
     }

@@ -26,15 +26,13 @@
 #pragma once
 
 #include <cstddef>
-#include <span>
-
 #include <optional>
+#include <span>
 
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
 #include "image/render_buffer.h"
-#include "sdf_types.h"
 
 namespace sdfbrick::reference {
 
@@ -61,10 +59,13 @@ AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference,
 // and for a pixel_voxel of another size or a value that is not finite and > 0.
 AccuracyMetrics compare(const RenderBuffer& test, const RenderBuffer& reference, std::span<const double> pixel_voxel);
 
-// Fills m's surface_error_* from the pixels both hit, their rays given by camera (sdf_camera.h's
-// directions, in double). Throws as compare() for mismatched buffers or a camera of another size.
+struct HostCamera;  // host_tracer.h
+
+// Fills m's surface_error_* from the pixels both hit, their rays given by camera (make_host_camera:
+// sdf_camera.h's directions in double). Throws as compare() for mismatched buffers or a camera of
+// another size.
 void add_surface_error(AccuracyMetrics& m, const RenderBuffer& test, const RenderBuffer& reference,
-                       const SdfCamera& camera);
+                       const HostCamera& camera);
 
 // Every field under its own name; psnr_db is null when it is infinite.
 nlohmann::json to_json(const AccuracyMetrics& m);

@@ -18,6 +18,7 @@
 #include "image/image.h"
 #include "pipeline/executor.h"
 #include "reference/device_tracer.h"
+#include "reference/host_tracer.h"
 #include "render/pictures.h"
 #include "scene/scene_json.h"
 #include "scene/to_device.h"
@@ -187,8 +188,9 @@ private:
             const render::SceneBricks& bricks = built_->lanes[i].run.bricks;
             const std::vector<double> voxels = pixel_voxels(scene_, bricks, buffer);
             c.accuracy = reference::compare(buffer, reference_, voxels);
-            reference::add_surface_error(c.accuracy, buffer, reference_,
-                                         make_camera(scene_.camera, reference_.width, reference_.height));
+            const reference::HostCamera rays =
+                reference::make_host_camera(scene_.camera, reference_.width, reference_.height);
+            reference::add_surface_error(c.accuracy, buffer, reference_, rays);
             c.capped_rays = render::work_counts(buffer).capped_rays;
             for (const render::TraceWarning& w : run.trace->warnings) c.warnings.push_back(w.message);
             c.bricks = bricks.bricks;

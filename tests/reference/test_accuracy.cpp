@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "reference/accuracy.h"
+#include "reference/host_tracer.h"
 
 namespace sdfbrick::reference {
 namespace {
@@ -53,10 +54,9 @@ TEST(ReferenceAccuracy, DepthErrorsOfATwoByTwoImage) {
 // reference normal. A 1 x 1 camera looks down -z; its ray is the forward axis. Normal +z: the error
 // itself; normal at 60 degrees from the ray: half of it. The world-unit depth error keeps the whole.
 TEST(ReferenceAccuracy, SurfaceErrorIsTheDepthErrorAlongTheNormal) {
-    SdfCamera camera{};
-    camera.forward[2] = -1.0f;
-    camera.right[0] = 1.0f;
-    camera.up[1] = 1.0f;
+    HostCamera camera;  // forward -z
+    camera.right = {1.0, 0.0, 0.0};
+    camera.up = {0.0, 1.0, 0.0};
     camera.width = camera.height = 1;
     RenderBuffer ref = blank(1, 1), test = blank(1, 1);
     set_hit(ref, 0, 2.0f);
