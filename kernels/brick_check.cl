@@ -125,19 +125,41 @@ inline sdf_index list_lanes(__local const ushort* list, uint k, uint count) {
 /* The points of a value, lanes past `count` repeating the last one. */
 inline sdf_index first_lanes(uint k, uint count) { return min((int)k + SDF_LANE_OFFSETS, (int)count - 1); }
 
-/* The trilinear value at check point h (the mean of its 2, 4 or 8 samples, summed in corner order),
- * and in *deepest the stored sample of largest magnitude among them (the first of equal ones). */
-inline sdf_real interpolate(__local const float* stored, sdf_index hx, sdf_index hy, sdf_index hz,
+/* One corner into the sum and the deepest sample so far (strictly deeper replaces it). */
+inline void add_corner(sdf_real* sum, sdf_real* deep, sdf_real v) {
+    *sum += v;
+    *deep = select(*deep, v, fabs(v) > fabs(*deep));
+}
+
+/* The trilinear value at check points h of one class (odd axes `odd`): the mean of the 8 corners
+ * summed in corner order (corner c takes the upper sample on axis a when bit a of c is set), and in
+ * *deepest the stored sample of largest magnitude among them (the first of equal ones). On an even
+ * axis the upper and lower samples are the same one, so only the 2, 4 or 8 distinct corners are
+ * read; each repeated corner reuses the value read for it, and the sum is the same. */
+inline sdf_real interpolate(__local const float* stored, sdf_index hx, sdf_index hy, sdf_index hz, int3 odd,
                             sdf_real* deepest) {
-    const sdf_index lx = hx >> 1, ly = hy >> 1, lz = hz >> 1;
-    const sdf_index ux = (hx + 1) >> 1, uy = (hy + 1) >> 1, uz = (hz + 1) >> 1;
+    const sdf_index x0 = hx >> 1, y0 = SAMPLES * (hy >> 1), z0 = SAMPLES * SAMPLES * (hz >> 1);
+    const sdf_index x1 = x0 + 1, y1 = y0 + SAMPLES, z1 = z0 + SAMPLES * SAMPLES;
+    const sdf_real v0 = gather_lanes(stored, x0 + y0 + z0);
+    sdf_real v1 = v0, v2 = v0, v4 = v0;
+    if (odd.x) v1 = gather_lanes(stored, x1 + y0 + z0);
+    if (odd.y) v2 = gather_lanes(stored, x0 + y1 + z0);
+    if (odd.z) v4 = gather_lanes(stored, x0 + y0 + z1);
+    sdf_real v3 = odd.x ? v1 : v2, v5 = odd.x ? v1 : v4, v6 = odd.y ? v2 : v4;
+    if (odd.x && odd.y) v3 = gather_lanes(stored, x1 + y1 + z0);
+    if (odd.x && odd.z) v5 = gather_lanes(stored, x1 + y0 + z1);
+    if (odd.y && odd.z) v6 = gather_lanes(stored, x0 + y1 + z1);
+    sdf_real v7 = !odd.z ? v3 : !odd.y ? v5 : v6;
+    if (odd.x && odd.y && odd.z) v7 = gather_lanes(stored, x1 + y1 + z1);
     sdf_real sum = 0.0f, deep = 0.0f;
-    for (int c8 = 0; c8 < 8; ++c8) {
-        const sdf_index at = ((c8 & 1) ? ux : lx) + SAMPLES * (((c8 & 2) ? uy : ly) + SAMPLES * ((c8 & 4) ? uz : lz));
-        const sdf_real v = gather_lanes(stored, at);
-        sum += v;
-        deep = select(deep, v, fabs(v) > fabs(deep));
-    }
+    add_corner(&sum, &deep, v0);
+    add_corner(&sum, &deep, v1);
+    add_corner(&sum, &deep, v2);
+    add_corner(&sum, &deep, v3);
+    add_corner(&sum, &deep, v4);
+    add_corner(&sum, &deep, v5);
+    add_corner(&sum, &deep, v6);
+    add_corner(&sum, &deep, v7);
     *deepest = deep;
     return sum * 0.125f;
 }
@@ -252,7 +274,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             class_lanes(first_lanes(v * SDF_LANES, count), odd, n, &hx, &hy, &hz);
             const sdf_index cell = min(hx >> 1, CELLS - 1) + CELLS * (min(hy >> 1, CELLS - 1) + CELLS * min(hz >> 1, CELLS - 1));
             sdf_real deepest;
-            const sdf_real interpolated = interpolate(stored, hx, hy, hz, &deepest);
+            const sdf_real interpolated = interpolate(stored, hx, hy, hz, odd, &deepest);
             const sdf_real settled = select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), fabs(deepest) - half_step - reach >= far);
             uint settle = 0u; /* lanes settled */
             float ds[SDF_LANES], st[SDF_LANES];
