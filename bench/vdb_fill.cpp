@@ -84,13 +84,12 @@ bool near_surface(const Geometry& g, const std::vector<std::uint32_t>& list, con
 // The leaf at `origin` (index space), or null when none of its voxels is within the band.
 Leaf* fill_leaf(const Geometry& g, const std::vector<std::uint32_t>& list, const openvdb::Coord& origin,
                 double voxel, double band) {
-    std::unique_ptr<Leaf> leaf;
+    auto leaf = std::make_unique<Leaf>(origin, static_cast<float>(band), false);
     bool any = false;
     for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
         const openvdb::Coord c = origin + Leaf::offsetToLocalCoord(n);
         const double d = reference::evaluate(g, list, glm::dvec3(c.x(), c.y(), c.z()) * voxel);
         const float v = static_cast<float>(std::clamp(d, -band, band));
-        if (!leaf) leaf = std::make_unique<Leaf>(origin, static_cast<float>(band), false);
         if (std::abs(d) < band) {
             leaf->setValueOn(n, v);
             any = true;

@@ -72,27 +72,16 @@ inline int3 class_odd(uint k) {
 }
 inline int3 class_sizes(int3 odd) { return select((int3)(SAMPLES), (int3)(CELLS), odd != 0); }
 
-/* i / n for n = CELLS on an odd axis, SAMPLES on an even one (constant divisors: no division
- * instruction), for one point and for the lanes of a value. */
-inline int class_div(int i, int odd) { return odd ? i / CELLS : i / SAMPLES; }
-#if SDF_LANES == 1
-#define class_div_lanes class_div
-#else
-inline sdf_index class_div_lanes(sdf_index i, int odd) {
+/* i / n for n = CELLS on an odd axis, SAMPLES on an even one, in every lane (constant divisors: no
+ * division instruction). */
+inline sdf_index class_div(sdf_index i, int odd) {
     if (odd) return i / CELLS;
     return i / SAMPLES;
-}
-#endif
-
-/* Point i of the class with odd axes `odd` and sizes n, on the half-voxel lattice. */
-inline int3 class_point(int i, int3 odd, int3 n) {
-    const int r = class_div(i, odd.x), q = class_div(r, odd.y);
-    return 2 * (int3)(i - r * n.x, r - q * n.y, q) + odd;
 }
 
 /* The lattice coordinates of points i of a class, one per lane. */
 inline void class_lanes(sdf_index i, int3 odd, int3 n, sdf_index* hx, sdf_index* hy, sdf_index* hz) {
-    const sdf_index r = class_div_lanes(i, odd.x), q = class_div_lanes(r, odd.y);
+    const sdf_index r = class_div(i, odd.x), q = class_div(r, odd.y);
     *hx = 2 * (i - r * n.x) + odd.x;
     *hy = 2 * (r - q * n.y) + odd.y;
     *hz = 2 * q + odd.z;

@@ -121,10 +121,10 @@ void add_surface_error(AccuracyMetrics& m, const RenderBuffer& test, const Rende
     check_pair(test, reference, 1.0);
     if (camera.width != reference.width || camera.height != reference.height)
         throw std::invalid_argument("accuracy: the camera's image size differs from the images'");
+    const auto width = static_cast<std::size_t>(reference.width);
     std::vector<double> err;
     for (std::size_t i = 0; i < reference.pixels(); ++i) {
         if (unconverged(reference, i) || !test.is_hit(i) || !reference.is_hit(i)) continue;
-        const auto width = static_cast<std::size_t>(reference.width);
         const glm::dvec3 d = camera.direction(static_cast<int>(i % width), static_cast<int>(i / width));
         const double c = std::abs(glm::dot(d, reference.normal(i)));
         err.push_back(std::abs(depth_of(test, i) - depth_of(reference, i)) * c);
