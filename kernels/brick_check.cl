@@ -72,11 +72,12 @@ inline int3 class_odd(uint k) {
 }
 inline int3 class_sizes(int3 odd) { return select((int3)(SAMPLES), (int3)(CELLS), odd != 0); }
 
-/* i / n for n = CELLS on an odd axis, SAMPLES on an even one, in every lane (constant divisors: no
- * division instruction). */
+/* i / n for n = CELLS on an odd axis, SAMPLES on an even one, in every lane, as (i m) >> 16 with
+ * m = ceil(2^16 / n): exact for i < 4,096 and n <= 10 (a class has at most 900 points). A division,
+ * even by either of two constants, became 16 scalar divisions per value on PoCL. */
 inline sdf_index class_div(sdf_index i, int odd) {
-    if (odd) return i / CELLS;
-    return i / SAMPLES;
+    const int m = odd ? (65535 + CELLS) / CELLS : (65535 + SAMPLES) / SAMPLES;
+    return (i * m) >> 16;
 }
 
 /* The lattice coordinates of points i of a class, one per lane. */
