@@ -3,7 +3,7 @@
  * within radius of the brick's centre (half its diagonal plus the sample apron). With dependencies
  * on, every edit that a kept smooth edit depends on (and that the parent's list holds) is kept too.
  * Lists stay unique and ascending: a bit per parent-list entry, then compaction.
- *   (brick_subdivide wrote the words of each brick's bit set)  -> scan -> word offsets
+ *   (brick_subdivide wrote the words of each brick's bit set; cull_words for a re-cull)  -> scan -> word offsets
  *   cull_mark:  the bit set, and where each word's entries are in the parent lists
  *   cull_count: dependencies (when on) and the kept count per word  -> scan -> each word's output slot
  *   cull_write: the compacted lists; the bricks' edit_offset / edit_count now name them
@@ -31,6 +31,13 @@ inline uint owner_of_word(__global const uint* word_offsets, uint count, uint w)
         if (word_offsets[mid] <= w) lo = mid; else hi = mid;
     }
     return lo;
+}
+
+/* Per brick, the words of its list's bit set, where bricks are culled again from their own lists
+ * (brick_subdivide writes them for new bricks). */
+__kernel void cull_words(__global const SdfBrick* bricks, uint count, __global uint* words) {
+    const uint i = get_global_id(0);
+    if (i < count) words[i] = (bricks[i].edit_count + 31u) >> 5;
 }
 
 /* span bits per work-item (32 / span work-items per word, side by side in one work-group of

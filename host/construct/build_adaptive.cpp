@@ -98,7 +98,8 @@ std::uint64_t AdaptiveLeaves::assemble(Levels& levels) {
 }
 
 void AdaptiveLeaves::keep_lists(int level, std::unique_ptr<ocl::Buffer<cl_uint>> lists) {
-    if (!checked_.empty() && checked_.back().level == level) checked_.back().lists = std::move(lists);
+    if (!checked_.empty() && checked_.back().level == level && !checked_.back().lists)
+        checked_.back().lists = std::move(lists);
 }
 
 void AdaptiveLeaves::add_finest(std::uint64_t count) {

@@ -57,8 +57,10 @@ bool Levels::run() {
                                                        sources_.bytes() + kept_words_.bytes() + split_words_.bytes());
         kept_.push_back(children);
         parent_count_ = children;
-        if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0)
+        if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0) {
             parent_count_ = adaptive_->check_and_split(level, *this);
+            if (parent_count_ > 0 && in_.settings.cull) recull_parents(level);
+        }
         if (parent_count_ == 0) break;
     }
     const bool complete =
@@ -111,7 +113,7 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
 std::uint64_t Levels::count_and_scan(int level) {
     const cl_uint lb = level_log2b(level);
     const std::size_t per_parent = std::size_t{1} << (3 * lb);
-    const std::uint64_t entries = list_entries_.empty() ? in_.edits_host.size() : list_entries_.back();
+    const std::uint64_t entries = list_entries_.empty() ? in_.edits_host.size() : parent_entries_;
     const CountShape shape =
         count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(in_.device, parent_count_, "the child counts");
@@ -188,10 +190,24 @@ void Levels::subdivide(int level, std::uint64_t children) {
 // Each child's edit list from its parent's; without culling every brick keeps the whole list.
 void Levels::cull(int level, std::uint64_t children) {
     if (in_.settings.cull && children > 0) {
-        cull_lists(level, children);
-        return;
+        std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, children, in_.plan.cull_saturation(level));
+        if (adaptive_) adaptive_->keep_lists(level - 1, std::move(replaced));
+    } else {
+        parent_entries_ = children * in_.edits_host.size();
     }
-    list_entries_.push_back(children * in_.edits_host.size());
+    list_entries_.push_back(parent_entries_);
+    parent_entries_by_level_.push_back(parent_entries_);
+}
+
+// The parents a checked level leaves: their lists were culled to hold for their own evaluation as
+// leaves (a wider saturation); their children need less. Culled again, the next level's count and
+// cull read shorter lists. The level's leaves keep the lists they were checked with.
+void Levels::recull_parents(int level) {
+    ocl::set_args(in_.programs.words_k.get(), *parents_, static_cast<cl_uint>(parent_count_), words_);
+    in_.scheduler.launch(measure::Stage::cull, level, in_.programs.words_k.get(), round_up(parent_count_, kGroup1d),
+                         kGroup1d);
+    adaptive_->keep_lists(level, cull_lists(level, parent_count_, in_.plan.parent_saturation(level)));
+    parent_entries_by_level_.back() = parent_entries_;
 }
 
 // What the device runs of a kernel at once, as the count and cull stages size their work: compute
@@ -209,7 +225,7 @@ std::uint64_t Levels::bits_per_item(std::uint64_t words, cl_kernel kernel, std::
     return span;
 }
 
-void Levels::cull_lists(int level, std::uint64_t children) {
+std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_t children, float saturation) {
     const auto& k = in_.programs;
     const ocl::Buffer<SdfBrick>& bricks = *parents_;  // this level's bricks (subdivide moved them there)
     const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
@@ -228,7 +244,7 @@ void Levels::cull_lists(int level, std::uint64_t children) {
         const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
         ocl::set_args(k.mark_k.get(), in_.edits, in_.meshes, parent_lists, bricks, n, static_cast<cl_uint>(total_words),
                       static_cast<cl_uint>(span), in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
-                      in_.plan.cull_radius(level, in_.settings.layout().apron()), in_.plan.cull_saturation(level),
+                      in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
                       static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                       ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
         in_.scheduler.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words * 32 / span, kGroup1d),
@@ -251,9 +267,9 @@ void Levels::cull_lists(int level, std::uint64_t children) {
     in_.scheduler.launch(measure::Stage::cull, level, k.write_k.get(),
                          round_up(std::max<std::uint64_t>(total_words * 32 / span, children), kGroup1d), kGroup1d);
     bytes.lists += lists->bytes();
-    list_entries_.push_back(entries);
-    if (adaptive_) adaptive_->keep_lists(level - 1, std::move(parent_lists_));
-    parent_lists_ = std::move(lists);
+    parent_entries_ = entries;
+    std::swap(parent_lists_, lists);
+    return lists;
 }
 
 // Keeps the range of this level's bricks that subtrees_ picks; their lists stay where they are.

@@ -73,7 +73,8 @@ inline float float_down(double x) {
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, count_merge_k, subdivide_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k, place_k;
+    ocl::Kernel count_k, count_merge_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
+        place_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -102,7 +103,7 @@ struct BuildPrograms {
           order(ocl::build_program(d, "brick_order.cl")),
           count_k(ocl::make_kernel(count, "brick_count")), count_merge_k(ocl::make_kernel(count, "brick_count_merge")),
           subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
-          mark_k(ocl::make_kernel(cull, "cull_mark")),
+          words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
@@ -154,6 +155,10 @@ struct BuildPlan {
     float cull_saturation(int level) const {
         return std::max(saturation(level + 1), level_clamp[std::max(level, coarsest_leaf)]);
     }
+    // The saturation that a checked level's parents (the bricks that did not pass) are culled again
+    // with: their children's count test and the children's own cull, not their own evaluation as
+    // leaves, which needs the wider level_clamp[level].
+    float parent_saturation(int level) const { return std::max(saturation(level + 1), cull_saturation(level + 1)); }
 };
 
 // The domain (levels as settings ask), then the thresholds and C (and the leaf levels of an adaptive
@@ -220,6 +225,9 @@ public:
     std::unique_ptr<ocl::Buffer<SdfBrick>> take_last_level() { return std::move(level_bricks_.back()); }
     const std::vector<std::uint64_t>& kept() const { return kept_; }                // every level's kept bricks
     const std::vector<std::uint64_t>& list_entries() const { return list_entries_; }  // every level's list entries
+    // Every level's entries that the next level's count reads: its parents' lists (re-culled ones in
+    // adaptive builds).
+    const std::vector<std::uint64_t>& parent_entries() const { return parent_entries_by_level_; }
 
     // Bytes of the build's records, lists and largest scratch (the memory report).
     struct Bytes {
@@ -240,7 +248,9 @@ private:
     void check_host_projection(int level, std::uint64_t children, double projected) const;
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
-    void cull_lists(int level, std::uint64_t children);
+    void recull_parents(int level);
+    // Culls the lists of this level's n bricks (parents_) at `saturation`; returns the lists replaced.
+    std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation);
     std::uint64_t keep_subtrees(std::uint64_t children);
     std::uint64_t keep_region(int level, std::uint64_t children);
     std::uint64_t resident_items(std::size_t work_group_limit) const;
@@ -259,6 +269,8 @@ private:
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;
     std::vector<std::uint64_t> list_entries_;
+    std::uint64_t parent_entries_ = 0;  // the entries of the parents' lists
+    std::vector<std::uint64_t> parent_entries_by_level_;
     std::vector<std::uint64_t> kept_;
     ocl::Buffer<cl_uint> counts_, offsets_, words_, bits_;
     ocl::Buffer<cl_uint> sources_, kept_words_;  // per cull word: its first parent entry, kept count
@@ -275,7 +287,8 @@ public:
     // Checks this level's bricks (levels.parents()); the passing ones become leaves, the others stay
     // as the parents. Returns the parents left.
     std::uint64_t check_and_split(int level, Levels& levels);
-    // The lists of the last checked level, once the next level's cull has replaced them.
+    // The lists of the last checked level, once a cull has replaced them (the first lists given are
+    // its leaves').
     void keep_lists(int level, std::unique_ptr<ocl::Buffer<cl_uint>> lists);
     // The finest level's bricks are leaves, unchecked (nothing is finer): they stay in the levels.
     void add_finest(std::uint64_t count);

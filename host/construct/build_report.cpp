@@ -91,7 +91,7 @@ void BuildReport::fill(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl
         r.subdivide_ms = in_.scheduler.stage_ms(measure::Stage::subdivide, r.level, in_.out.first_launch);
         r.cull_ms = in_.scheduler.stage_ms(measure::Stage::cull, r.level, in_.out.first_launch);
         in_.out.level_reports.push_back(r);
-        prev_entries = r.edit_entries;
+        prev_entries = l < levels_.parent_entries().size() ? levels_.parent_entries()[l] : 0;
         prev_records = records;
         prev_tests = c.tests[l];
     }
