@@ -26,6 +26,8 @@
 #define INTERIOR (SAMPLES - 2 * APRON)
 #define CELLS (SAMPLES - 1)
 #define CLASS_POINTS (CELLS * SAMPLES * SAMPLES) /* points of the largest class */
+#define VALUES ((SAMPLE_COUNT + SDF_LANES - 1) / SDF_LANES) /* values of SDF_LANES point numbers of a class */
+#define STORED (VALUES * SDF_LANES + SAMPLES * SAMPLES + SAMPLES + 1) /* the corners the last value reads */
 
 /* Lane 0 of a value (sdf_edit.h: every lane is the float result at its point). */
 #if SDF_LANES == 1
@@ -64,28 +66,21 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
 
 /* The check points in seven classes of one parity each, cell centres first (odd on three axes: where
  * the trilinear error of a smooth field peaks, so a failing brick usually fails in the first class),
- * then face centres (odd on two), then edge midpoints (odd on one). Point i of a class with odd axes
- * `odd` is h = 2 (i mod n.x, i / n.x mod n.y, i / (n.x n.y)) + odd, n being CELLS on an odd axis and
- * SAMPLES on an even one. */
+ * then face centres (odd on two), then edge midpoints (odd on one). Point i of the class with odd
+ * axes `odd` is numbered like sample i = x + S (y + S z): it is h = 2 (x, y, z) + odd on the
+ * half-voxel lattice, and its lowest corner is sample i. On an odd axis the coordinate S - 1 has no
+ * point (no sample above it): h = 2 S - 1 there, past the lattice's 2 CELLS, and such lanes are
+ * skipped. So a value's corners are consecutive samples (loads, not gathers), and its coordinates
+ * take a division by the constant S. */
 inline int3 class_odd(uint k) {
     return k == 0u ? (int3)(1) : k < 4u ? (int3)(k != 1u, k != 2u, k != 3u) : (int3)(k == 4u, k == 5u, k == 6u);
 }
-inline int3 class_sizes(int3 odd) { return select((int3)(SAMPLES), (int3)(CELLS), odd != 0); }
-
-/* i / n for n = CELLS on an odd axis, SAMPLES on an even one, in every lane, as (i m) >> 16 with
- * m = ceil(2^16 / n): exact for i < 4,096 and n <= 10 (a class has at most 900 points). A division,
- * even by either of two constants, became 16 scalar divisions per value on PoCL. */
-inline sdf_index class_div(sdf_index i, int odd) {
-    const int m = odd ? (65535 + CELLS) / CELLS : (65535 + SAMPLES) / SAMPLES;
-    return (i * m) >> 16;
-}
 
 /* The lattice coordinates of points i of a class, one per lane. */
-inline void class_lanes(sdf_index i, int3 odd, int3 n, sdf_index* hx, sdf_index* hy, sdf_index* hz) {
-    const sdf_index r = class_div(i, odd.x), q = class_div(r, odd.y);
-    *hx = 2 * (i - r * n.x) + odd.x;
-    *hy = 2 * (r - q * n.y) + odd.y;
-    *hz = 2 * q + odd.z;
+inline void class_lanes(sdf_index i, int3 odd, sdf_index* hx, sdf_index* hy, sdf_index* hz) {
+    *hx = 2 * (i % SAMPLES) + odd.x;
+    *hy = 2 * ((i / SAMPLES) % SAMPLES) + odd.y;
+    *hz = 2 * (i / (SAMPLES * SAMPLES)) + odd.z;
 }
 
 /* a[index] in every lane (a gather, one lane at a time). */
@@ -112,8 +107,6 @@ inline sdf_index list_lanes(__local const ushort* list, uint k, uint count) {
 #endif
 }
 
-/* The points of a value, lanes past `count` repeating the last one. */
-inline sdf_index first_lanes(uint k, uint count) { return min((int)k + SDF_LANE_OFFSETS, (int)count - 1); }
 
 /* One corner into the sum and the deepest sample so far (strictly deeper replaces it). */
 inline void add_corner(sdf_real* sum, sdf_real* deep, sdf_real v) {
@@ -121,26 +114,25 @@ inline void add_corner(sdf_real* sum, sdf_real* deep, sdf_real v) {
     *deep = select(*deep, v, fabs(v) > fabs(*deep));
 }
 
-/* The trilinear value at check points h of one class (odd axes `odd`): the mean of the 8 corners
- * summed in corner order (corner c takes the upper sample on axis a when bit a of c is set), and in
- * *deepest the stored sample of largest magnitude among them (the first of equal ones). On an even
- * axis the upper and lower samples are the same one, so only the 2, 4 or 8 distinct corners are
- * read; each repeated corner reuses the value read for it, and the sum is the same. */
-inline sdf_real interpolate(__local const float* stored, sdf_index hx, sdf_index hy, sdf_index hz, int3 odd,
-                            sdf_real* deepest) {
-    const sdf_index x0 = hx >> 1, y0 = SAMPLES * (hy >> 1), z0 = SAMPLES * SAMPLES * (hz >> 1);
-    const sdf_index x1 = x0 + 1, y1 = y0 + SAMPLES, z1 = z0 + SAMPLES * SAMPLES;
-    const sdf_real v0 = gather_lanes(stored, x0 + y0 + z0);
+/* The trilinear value at the check points of one class (odd axes `odd`) whose lowest corners are
+ * samples at + lane: the mean of the 8 corners summed in corner order (corner c takes the upper
+ * sample on axis a when bit a of c is set), and in *deepest the stored sample of largest magnitude
+ * among them (the first of equal ones). On an even axis the upper and lower samples are the same
+ * one, so only the 2, 4 or 8 distinct corners are read; each repeated corner reuses the value read
+ * for it, and the sum is the same. */
+inline sdf_real interpolate(__local const float* stored, uint at, int3 odd, sdf_real* deepest) {
+    const uint dx = 1u, dy = SAMPLES, dz = SAMPLES * SAMPLES;
+    const sdf_real v0 = load_lanes(stored + at);
     sdf_real v1 = v0, v2 = v0, v4 = v0;
-    if (odd.x) v1 = gather_lanes(stored, x1 + y0 + z0);
-    if (odd.y) v2 = gather_lanes(stored, x0 + y1 + z0);
-    if (odd.z) v4 = gather_lanes(stored, x0 + y0 + z1);
+    if (odd.x) v1 = load_lanes(stored + at + dx);
+    if (odd.y) v2 = load_lanes(stored + at + dy);
+    if (odd.z) v4 = load_lanes(stored + at + dz);
     sdf_real v3 = odd.x ? v1 : v2, v5 = odd.x ? v1 : v4, v6 = odd.y ? v2 : v4;
-    if (odd.x && odd.y) v3 = gather_lanes(stored, x1 + y1 + z0);
-    if (odd.x && odd.z) v5 = gather_lanes(stored, x1 + y0 + z1);
-    if (odd.y && odd.z) v6 = gather_lanes(stored, x0 + y1 + z1);
+    if (odd.x && odd.y) v3 = load_lanes(stored + at + dx + dy);
+    if (odd.x && odd.z) v5 = load_lanes(stored + at + dx + dz);
+    if (odd.y && odd.z) v6 = load_lanes(stored + at + dy + dz);
     sdf_real v7 = !odd.z ? v3 : !odd.y ? v5 : v6;
-    if (odd.x && odd.y && odd.z) v7 = gather_lanes(stored, x1 + y1 + z1);
+    if (odd.x && odd.y && odd.z) v7 = load_lanes(stored + at + dx + dy + dz);
     sdf_real sum = 0.0f, deep = 0.0f;
     add_corner(&sum, &deep, v0);
     add_corner(&sum, &deep, v1);
@@ -203,12 +195,13 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
                           __global const SdfBrick* bricks, __global const sample_t* pool, float origin_x,
                           float origin_y, float origin_z, float voxel, float clamp_c, float band, float dequant,
                           float tolerance, float window, __global float* errors, __global uint* passed,
-                          __local float* stored, __local float* worst,
+                          __local float* worst,
                           __local SdfPrepared* chunk, uint chunk_size) {
     __local int failed;
     __local uint fold_count;
+    __local float stored[STORED];                   /* the samples, then zeros that lanes past them read */
     __local ushort to_fold[CLASS_POINTS];           /* the class's points that need the fold */
-    __local float interp[CLASS_POINTS + SDF_LANES]; /* per point of the class */
+    __local float interp[VALUES * SDF_LANES];       /* per point of the class */
     __local float value[CLASS_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
     __local float deep_cells[CELLS * CELLS * CELLS]; /* 1: every corner beyond the window (below) */
     const uint brick = get_group_id(0);
@@ -223,6 +216,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         stored[idx] = (float)pool[(size_t)brick * SAMPLE_COUNT + idx] * dequant;
 #endif
     }
+    for (uint idx = SAMPLE_COUNT + lid; idx < STORED; idx += wg) stored[idx] = 0.0f;
     if (lid == 0) failed = passed[brick] == 0u; /* brick_thin failed it */
     /* Depth beyond which a check point needs no fold: the window and the sign test's depth, with a
      * margin of 1/64 voxel for the rounding of the folds. A stored sample is within half a
@@ -254,24 +248,24 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         if (failed) break; /* read by every work-item between the same barriers */
         if (lid == 0) fold_count = 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
-        const int3 odd = class_odd(k), n = class_sizes(odd);
-        const uint count = (uint)(n.x * n.y * n.z), values = (count + SDF_LANES - 1u) / SDF_LANES;
+        const int3 odd = class_odd(k);
         const float reach = (k == 0u ? 0.8660254f : k < 4u ? 0.70710678f : 0.5f) * voxel;
         /* SDF_LANES points at a time: those in deep cells are skipped, those known to lie beyond the
          * window settled at once, and the others listed for the fold */
-        for (uint v = lid; v < values; v += wg) {
+        for (uint v = lid; v < VALUES; v += wg) {
             sdf_index hx, hy, hz;
-            class_lanes(first_lanes(v * SDF_LANES, count), odd, n, &hx, &hy, &hz);
+            class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
+            const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS; /* no point */
             const sdf_index cell = min(hx >> 1, CELLS - 1) + CELLS * (min(hy >> 1, CELLS - 1) + CELLS * min(hz >> 1, CELLS - 1));
             sdf_real deepest;
-            const sdf_real interpolated = interpolate(stored, hx, hy, hz, odd, &deepest);
+            const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
             const sdf_real settled = select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), fabs(deepest) - half_step - reach >= far);
             uint settle = 0u; /* lanes settled */
             float ds[SDF_LANES], st[SDF_LANES];
-            sdf_spill_lanes(gather_lanes(deep_cells, cell), ds);
+            sdf_spill_lanes(select(gather_lanes(deep_cells, cell), SDF_SPLAT(1.0f), outside), ds);
             sdf_spill_lanes(settled, st);
-            for (uint l = 0; l < SDF_LANES && v * SDF_LANES + l < count; ++l) {
-                if (ds[l] != 0.0f) continue; /* in a deep cell */
+            for (uint l = 0; l < SDF_LANES; ++l) {
+                if (ds[l] != 0.0f) continue; /* no point, or in a deep cell */
                 if (st[l] != 0.0f) settle |= 1u << l;
                 /* the list's order follows the atomics, but nothing computed depends on it: each
                  * point folds its own value, and the error's maximum and `failed` are order-free */
@@ -291,7 +285,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             barrier(CLK_LOCAL_MEM_FENCE);
             for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
                 sdf_index hx, hy, hz;
-                class_lanes(list_lanes(to_fold, t, listed), odd, n, &hx, &hy, &hz);
+                class_lanes(list_lanes(to_fold, t, listed), odd, &hx, &hy, &hz);
                 const sdf_real px = origin_x + ((float)first.x + SDF_CONVERT_REAL(hx) * 0.5f + 0.5f) * voxel;
                 const sdf_real py = origin_y + ((float)first.y + SDF_CONVERT_REAL(hy) * 0.5f + 0.5f) * voxel;
                 const sdf_real pz = origin_z + ((float)first.z + SDF_CONVERT_REAL(hz) * 0.5f + 0.5f) * voxel;

@@ -42,7 +42,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), samples, in_.origin.x,
                   in_.origin.y, in_.origin.z, voxel, in_.plan.level_clamp[level], band, layout.dequantise_scale(band),
                   in_.plan.tolerance, window, out.errors, out.passed,
-                  ocl::LocalMemory{layout.samples_per_brick() * sizeof(float)}, ocl::LocalMemory{group * sizeof(float)},
+                  ocl::LocalMemory{group * sizeof(float)},
                   ocl::LocalMemory{static_cast<std::size_t>(in_.settings.chunk) * sizeof(SdfEdit)},
                   static_cast<cl_uint>(in_.settings.chunk));
     in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
