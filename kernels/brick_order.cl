@@ -7,7 +7,10 @@
  *                finest-level Morton key is smaller (a binary search per level; keys are distinct
  *                because leaves are disjoint cells);
  *   brick_place: each leaf to its position, its edit_offset moved by its level's list base (the
- *                levels' lists are concatenated too). */
+ *                levels' lists are concatenated too), and to `evaluated` with no edits when the check
+ *                evaluated it (a level coarser than the finest): the leaf evaluation runs on those
+ *                records, and brick_put puts the samples brick_keep kept in their places.
+ * brick_keep and brick_put copy a brick's samples as `words` 32-bit words (any format). */
 #include "sdf_morton.h"
 
 __kernel void brick_split(__global const SdfBrick* bricks, uint count, __global const uint* passed,
@@ -38,10 +41,33 @@ __kernel void brick_rank(__global const SdfBrick* leaves, __global const uint* l
 }
 
 __kernel void brick_place(__global const SdfBrick* leaves, __global const uint* positions, uint total,
-                          __global const uint* list_base, __global SdfBrick* out) {
+                          __global const uint* list_base, uint finest, __global SdfBrick* out,
+                          __global SdfBrick* evaluated) {
     const uint i = get_global_id(0);
     if (i >= total) return;
     SdfBrick b = leaves[i];
     b.edit_offset += list_base[b.level];
     out[positions[i]] = b;
+    if (b.level != finest) b.edit_count = 0u;
+    evaluated[positions[i]] = b;
+}
+
+/* A checked level's passing bricks' samples, which the check evaluated, in leaf order (leaf_offsets:
+ * the scan of passed). One work-group per checked brick. */
+__kernel void brick_keep(__global const uint* samples, __global const uint* passed, __global const uint* leaf_offsets,
+                         uint count, uint words, __global uint* kept) {
+    const uint i = get_group_id(0);
+    if (i >= count || !passed[i]) return;
+    for (uint w = get_local_id(0); w < words; w += get_local_size(0))
+        kept[(size_t)leaf_offsets[i] * words + w] = samples[(size_t)i * words + w];
+}
+
+/* A level's kept samples into the pool at its leaves' merged positions (brick_rank's, the level's
+ * leaves from `first` on). One work-group per leaf. */
+__kernel void brick_put(__global const uint* kept, __global const uint* positions, uint first, uint count, uint words,
+                        __global uint* pool) {
+    const uint j = get_group_id(0);
+    if (j >= count) return;
+    for (uint w = get_local_id(0); w < words; w += get_local_size(0))
+        pool[(size_t)positions[first + j] * words + w] = kept[(size_t)j * words + w];
 }

@@ -117,7 +117,7 @@ GeometryBuild BrickBuilder::build(const Geometry& g, const BuildSettings& s, mea
     out.leaves_built = out.leaf_count;
     const ocl::Buffer<SdfBrick>& leaves = adaptive ? adaptive->merged() : *levels.level_bricks().back();
     detail::LeafEvaluation evaluation(in);
-    evaluation.evaluate(leaves, levels.lists(), out.leaf_count, levels.bytes);
+    evaluation.evaluate(leaves, levels.lists(), out.leaf_count, levels.bytes, adaptive ? &*adaptive : nullptr);
     device_.finish();
     scheduler.resolve();
     out.end_launch = scheduler.size();

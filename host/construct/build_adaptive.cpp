@@ -7,6 +7,11 @@
 
 namespace sdfbrick::construct::detail {
 
+namespace {
+// A brick's samples as 32-bit words (S^3 is a multiple of 4 for S = 8 and 10, in every format).
+cl_uint brick_words(const BrickLayout& layout) { return static_cast<cl_uint>(layout.brick_bytes() / 4); }
+}  // namespace
+
 // The check of one level coarser than the finest (brick_check.cl), then the split of its bricks
 // into leaves and parents by the scan of the results (brick_split).
 std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
@@ -38,7 +43,6 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * kGroup1d, kGroup1d);
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
     evaluate_samples(in_, masked, levels.lists(), n, nullptr, samples, measure::Stage::check, level);
-    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes());
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), samples, in_.origin.x,
                   in_.origin.y, in_.origin.z, voxel, in_.plan.level_clamp[level], band, layout.dequantise_scale(band),
                   in_.plan.tolerance, window, out.errors, out.passed,
@@ -56,6 +60,15 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     ocl::set_args(k.split_k.get(), levels.parents(), static_cast<cl_uint>(n), out.passed, offsets, *out.leaves,
                   *parents);
     in_.scheduler.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
+    if (out.count > 0) {  // the leaves' samples: the leaf evaluation puts them instead of evaluating them
+        out.samples = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
+            in_.device, out.count * layout.brick_bytes(), fmt::format("the samples of the leaves of level {}", level)));
+        ocl::set_args(k.keep_k.get(), samples, out.passed, offsets, static_cast<cl_uint>(n), brick_words(layout),
+                      *out.samples);
+        in_.scheduler.launch(measure::Stage::check, level, k.keep_k.get(), n * kGroup1d, kGroup1d);
+        kept_bytes_ += out.samples->bytes();
+    }
+    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes() + kept_bytes_);
     levels.bytes.bricks += out.leaves->bytes() + parents->bytes();
     levels.set_parents(std::move(parents));
     const std::uint64_t left = n - out.count;
@@ -83,18 +96,33 @@ std::uint64_t AdaptiveLeaves::assemble(Levels& levels) {
     lists.copy_from(levels.lists(), at);
     const ocl::Buffer<cl_uint> first_d(in_.device, std::span<const cl_uint>(first), CL_MEM_READ_ONLY);
     const ocl::Buffer<cl_uint> base_d(in_.device, std::span<const cl_uint>(list_base), CL_MEM_READ_ONLY);
-    ocl::Buffer<cl_uint> positions = allocate<cl_uint>(in_.device, total, "the leaf positions");
+    positions_ = std::make_unique<ocl::Buffer<cl_uint>>(allocate<cl_uint>(in_.device, total, "the leaf positions"));
+    ocl::Buffer<cl_uint>& positions = *positions_;
     merged_ = std::make_unique<ocl::Buffer<SdfBrick>>(allocate<SdfBrick>(in_.device, total, "the leaves"));
+    evaluated_ = std::make_unique<ocl::Buffer<SdfBrick>>(allocate<SdfBrick>(in_.device, total, "the leaves evaluated"));
+    first_ = first;
     const auto& k = in_.programs;
     const auto count = static_cast<cl_uint>(total);
     ocl::set_args(k.rank_k.get(), all, first_d, static_cast<cl_uint>(checked_.size()), count,
                   static_cast<cl_uint>(in_.plan.finest()), in_.plan.log2b, positions);
     in_.scheduler.launch(measure::Stage::order, -1, k.rank_k.get(), round_up(total, kGroup1d), kGroup1d);
-    ocl::set_args(k.place_k.get(), all, positions, count, base_d, *merged_);
+    ocl::set_args(k.place_k.get(), all, positions, count, base_d, static_cast<cl_uint>(in_.plan.finest()), *merged_,
+                  *evaluated_);
     in_.scheduler.launch(measure::Stage::order, -1, k.place_k.get(), round_up(total, kGroup1d), kGroup1d);
     levels.bytes.lists += lists.bytes();
     levels.set_lists(std::make_unique<ocl::Buffer<cl_uint>>(std::move(lists)));
     return total;
+}
+
+void AdaptiveLeaves::put_samples(ocl::Buffer<std::uint8_t>& pool) const {
+    const BrickLayout layout = in_.settings.layout();
+    for (std::size_t i = 0; i < checked_.size(); ++i) {
+        const LevelLeaves& l = checked_[i];
+        if (!l.samples) continue;
+        ocl::set_args(in_.programs.put_k.get(), *l.samples, *positions_, first_[i], static_cast<cl_uint>(l.count),
+                      brick_words(layout), pool);
+        in_.scheduler.launch(measure::Stage::evaluate, l.level, in_.programs.put_k.get(), l.count * kGroup1d, kGroup1d);
+    }
 }
 
 void AdaptiveLeaves::keep_lists(int level, std::unique_ptr<ocl::Buffer<cl_uint>> lists) {

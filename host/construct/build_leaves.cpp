@@ -43,7 +43,7 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
 
 // The pool (every leaf's samples) and the leaves' boxes.
 void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl_uint>& lists,
-                              std::uint64_t leaf_count, Levels::Bytes& bytes) {
+                              std::uint64_t leaf_count, Levels::Bytes& bytes, const AdaptiveLeaves* adaptive) {
     const BrickLayout layout = in_.settings.layout();
     in_.out.pool = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
         in_.device, leaf_count * layout.brick_bytes(), fmt::format("the brick pool ({} bricks)", leaf_count)));
@@ -55,7 +55,9 @@ void LeafEvaluation::evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Bu
     const int leaf_level = in_.plan.domain.levels - 1;
     const auto finest = static_cast<cl_uint>(in_.plan.finest());
     const ApronSharing apron = share_aprons(leaves, leaf_count, bytes);
-    evaluate_samples(in_, leaves, lists, leaf_count, owned_.get(), *in_.out.pool, measure::Stage::evaluate, leaf_level);
+    evaluate_samples(in_, adaptive ? adaptive->evaluated() : leaves, lists, leaf_count, owned_.get(), *in_.out.pool,
+                     measure::Stage::evaluate, leaf_level);
+    if (adaptive) adaptive->put_samples(*in_.out.pool);
     if (apron.copy) {
         ocl::set_args(apron.copy->get(), *owned_, apron.neighbours, *in_.out.pool);
         in_.scheduler.launch(measure::Stage::apron, leaf_level, apron.copy->get(), leaf_count * kGroup1d, kGroup1d);

@@ -74,7 +74,7 @@ inline float float_down(double x) {
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
     ocl::Kernel count_k, count_merge_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
-        place_k;
+        place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -107,7 +107,8 @@ struct BuildPrograms {
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
-          place_k(ocl::make_kernel(order, "brick_place")) {}
+          place_k(ocl::make_kernel(order, "brick_place")), keep_k(ocl::make_kernel(order, "brick_keep")),
+          put_k(ocl::make_kernel(order, "brick_put")) {}
 };
 
 // The thresholds, saturation and margins of one geometry's build (docs/construction.md).
@@ -300,6 +301,11 @@ public:
     std::vector<double> check_errors() const;
     const ocl::Buffer<SdfBrick>& merged() const { return *merged_; }
     std::unique_ptr<ocl::Buffer<SdfBrick>> take_merged() { return std::move(merged_); }
+    // The merged leaves as the leaf evaluation reads them: those of checked levels have no edits,
+    // since their samples are the check's (put_samples places them).
+    const ocl::Buffer<SdfBrick>& evaluated() const { return *evaluated_; }
+    // The checked levels' leaf samples into the pool (after the leaf evaluation, before apron copies).
+    void put_samples(ocl::Buffer<std::uint8_t>& pool) const;
 
 private:
     struct LevelLeaves {
@@ -309,10 +315,14 @@ private:
         ocl::Buffer<float> errors;    // per checked brick of the level
         ocl::Buffer<cl_uint> passed;  // per checked brick of the level
         std::unique_ptr<ocl::Buffer<cl_uint>> lists;
+        std::unique_ptr<ocl::Buffer<std::uint8_t>> samples;  // the leaves' samples, as the check evaluated them
     };
     BuildInputs& in_;
     std::vector<LevelLeaves> checked_;  // the checked levels (and the finest), coarsest first
-    std::unique_ptr<ocl::Buffer<SdfBrick>> merged_;
+    std::unique_ptr<ocl::Buffer<SdfBrick>> merged_, evaluated_;
+    std::unique_ptr<ocl::Buffer<cl_uint>> positions_;  // each leaf's merged position, level after level
+    std::vector<cl_uint> first_;                       // each checked level's first leaf in positions_
+    std::uint64_t kept_bytes_ = 0;                     // the leaves' samples kept so far
 };
 
 // The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;
@@ -327,8 +337,9 @@ class LeafEvaluation {
 public:
     explicit LeafEvaluation(BuildInputs& in) : in_(in) {}
     // leaves: the leaf records (Morton order); lists: their edit lists. Updates bytes.scratch.
+    // adaptive: where the check evaluated leaves already (their samples are put, not evaluated).
     void evaluate(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl_uint>& lists, std::uint64_t leaf_count,
-                  Levels::Bytes& bytes);
+                  Levels::Bytes& bytes, const AdaptiveLeaves* adaptive = nullptr);
     // Per leaf, the regions of its samples it evaluates; null when no leaf shares.
     const ocl::Buffer<cl_uint>* owned() const { return owned_.get(); }
 

@@ -15,7 +15,11 @@ BuildReport::Counters BuildReport::count_on_device(const ocl::Buffer<SdfBrick>& 
     const auto groups = [](std::uint64_t n) { return std::min<std::size_t>((n + kGroup - 1) / kGroup, kGroups); };
     const std::size_t levels = levels_.level_bricks().size(), leaf_base = 2 * kGroups * levels;
     const BuildPrograms::Stats& k = in_.programs.stats(in_.device, in_.settings.layout());
-    ocl::Buffer<cl_ulong> partial(ocl::pooled, in_.device, leaf_base + 5 * kGroups);
+    // Adaptive builds: the evaluation's work is counted over the records it read (leaves whose
+    // samples the check evaluated have no edits there), the lists' over the leaves.
+    const ocl::Buffer<SdfBrick>* evaluated = adaptive_ ? &adaptive_->evaluated() : nullptr;
+    const std::size_t evaluated_base = leaf_base + 5 * kGroups;
+    ocl::Buffer<cl_ulong> partial(ocl::pooled, in_.device, evaluated_base + 5 * kGroups);
     Counters c;
     c.records.resize(levels);
     std::vector<std::size_t> launched(levels, 0);
@@ -32,10 +36,14 @@ BuildReport::Counters BuildReport::count_on_device(const ocl::Buffer<SdfBrick>& 
         std::vector<cl_uint> flops(in_.edits_host.size());
         for (std::size_t i = 0; i < flops.size(); ++i) flops[i] = static_cast<cl_uint>(edit_flops(in_.edits_host[i]));
         const ocl::Buffer<cl_uint> flops_d(ocl::pooled, in_.device, std::span<const cl_uint>(flops));
-        ocl::set_args(k.leaf.get(), leaves, static_cast<cl_uint>(leaf_count), lists, flops_d,
-                      evaluation_.owned() ? *evaluation_.owned() : in_.empty_uints,
-                      static_cast<cl_uint>(evaluation_.owned() ? 1 : 0), partial, static_cast<cl_uint>(leaf_base));
-        ocl::enqueue(in_.device, k.leaf.get(), "leaf_stats", leaf_groups * kGroup, kGroup);
+        for (const ocl::Buffer<SdfBrick>* records : {&leaves, evaluated}) {
+            if (!records) continue;
+            ocl::set_args(k.leaf.get(), *records, static_cast<cl_uint>(leaf_count), lists, flops_d,
+                          evaluation_.owned() ? *evaluation_.owned() : in_.empty_uints,
+                          static_cast<cl_uint>(evaluation_.owned() ? 1 : 0), partial,
+                          static_cast<cl_uint>(records == &leaves ? leaf_base : evaluated_base));
+            ocl::enqueue(in_.device, k.leaf.get(), "leaf_stats", leaf_groups * kGroup, kGroup);
+        }
     }
     const std::vector<cl_ulong> p = partial.read();
     c.longest.assign(levels, 0);
@@ -47,11 +55,12 @@ BuildReport::Counters BuildReport::count_on_device(const ocl::Buffer<SdfBrick>& 
         }
     for (std::size_t g = 0; g < leaf_groups; ++g) {
         const cl_ulong* v = &p[leaf_base + 5 * g];
+        const cl_ulong* e = &p[(evaluated ? evaluated_base : leaf_base) + 5 * g];
         c.entries += v[0];
         c.longest_leaf = std::max<std::uint64_t>(c.longest_leaf, v[1]);
         c.entry_flops += v[2];
-        c.flops += v[3];
-        c.evaluations += v[4];
+        c.flops += e[3];
+        c.evaluations += e[4];
     }
     return c;
 }
