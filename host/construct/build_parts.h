@@ -249,6 +249,7 @@ private:
     void check_host_projection(int level, std::uint64_t children, double projected) const;
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
+    bool recull_pays(int level) const;
     void recull_parents(int level);
     // Culls the lists of this level's n bricks (parents_) at `saturation`; returns the lists replaced.
     std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation);
