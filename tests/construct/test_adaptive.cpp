@@ -204,6 +204,43 @@ TEST(ConstructAdaptive, CullingRepeatsAndChunksAreBitIdentical) {
     EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), first) << "chunk, group";
 }
 
+// A slab engraved by many small hard box cuts: the coarse candidates' lists are long, and the check
+// fails most of them near the cuts, so their parents are culled again for the next level (CPU
+// devices, lists of 64 edits or more). That must change no bit: culling off gives the same output.
+Geometry engraved_geometry() {
+    Geometry g;
+    g.name = "engraved";
+    Edit slab;
+    slab.primitive = Primitive::Box;
+    slab.params = {1.0, 0.15, 0.6, 0.0};
+    g.edits.push_back(slab);
+    for (int i = 0; i < 400; ++i) {
+        Edit cut;
+        cut.primitive = Primitive::Box;
+        cut.op = Op::Subtract;
+        const double h = 0.012 + 0.004 * (i % 4);
+        cut.params = {h, 0.03, h, 0.0};
+        cut.transform.translation = {-0.95 + 0.095 * (i % 20), 0.15, -0.57 + 0.06 * (i / 20)};
+        g.edits.push_back(cut);
+    }
+    return g;
+}
+
+TEST(ConstructAdaptive, CullingTheCheckedParentsAgainChangesNoBit) {
+    const Geometry g = engraved_geometry();
+    BuildSettings s = adaptive(0.0625, 0.008);
+    measure::Scheduler& recorder = test::recorder();
+    const GeometryBuild on = builder().build(g, s, recorder);
+    const auto& launches = recorder.launches();
+    EXPECT_TRUE(std::any_of(launches.begin() + static_cast<std::ptrdiff_t>(on.first_launch), launches.end(),
+                            [](const measure::Launch& l) { return l.kernel == "cull_words"; }))
+        << "no level's parents were culled again";
+    EXPECT_GT(on.leaf_count, 0u);
+    const std::string digest = construct::output_digest(on, s);
+    s.cull = false;
+    EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest) << "culling off";
+}
+
 TEST(ConstructAdaptive, RefusesBadTolerances) {
     const Geometry g = shipped_geometry("spheres");
     for (double t : {-1.0, std::nan(""), double(INFINITY)}) {
