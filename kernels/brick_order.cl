@@ -2,10 +2,11 @@
  * in Morton order already, and the merged list must be too (the LBVH is built on it), with no sort:
  *   brick_split: a checked level's bricks -> its leaves (passed) and the next level's parents, both
  *                in their order (offsets: exclusive scan of passed);
- *   brick_rank:  for each leaf of every level (concatenated level by level, level_first[m] the first
- *                of level m), its position in the merged list = the leaves of every level whose
- *                finest-level Morton key is smaller (a binary search per level; keys are distinct
- *                because leaves are disjoint cells);
+ *   brick_key:   each leaf's finest-level Morton key (of every level, concatenated level by level,
+ *                level_first[m] the first of level m);
+ *   brick_rank:  for each leaf, its position in the merged list = the leaves of every level whose key
+ *                is smaller (a binary search per level over the keys; keys are distinct because
+ *                leaves are disjoint cells);
  *   brick_place: each leaf to its position, its edit_offset moved by its level's list base (the
  *                levels' lists are concatenated too), and to `evaluated` with no edits when the check
  *                evaluated it (a level coarser than the finest): the leaf evaluation runs on those
@@ -22,18 +23,23 @@ __kernel void brick_split(__global const SdfBrick* bricks, uint count, __global 
     else parents[i - before] = bricks[i];
 }
 
-__kernel void brick_rank(__global const SdfBrick* leaves, __global const uint* level_first, uint level_count,
-                         uint total, uint finest, uint log2b, __global uint* positions) {
+__kernel void brick_key(__global const SdfBrick* leaves, uint total, uint finest, uint log2b, __global ulong* keys) {
+    const uint i = get_global_id(0);
+    if (i < total) keys[i] = sdf_brick_key(leaves[i], finest, log2b);
+}
+
+__kernel void brick_rank(__global const ulong* keys, __global const uint* level_first, uint level_count, uint total,
+                         __global uint* positions) {
     const uint i = get_global_id(0);
     if (i >= total) return;
-    const ulong key = sdf_brick_key(leaves[i], finest, log2b);
+    const ulong key = keys[i];
     uint position = 0u;
     for (uint m = 0; m < level_count; ++m) {
         uint lo = level_first[m], hi = level_first[m + 1u];
         const uint first = lo;
         while (lo < hi) {
             const uint mid = lo + ((hi - lo) >> 1);
-            if (sdf_brick_key(leaves[mid], finest, log2b) < key) lo = mid + 1u; else hi = mid;
+            if (keys[mid] < key) lo = mid + 1u; else hi = mid;
         }
         position += lo - first;
     }

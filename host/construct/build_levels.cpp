@@ -96,8 +96,14 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
                (in_.settings.count_splits == 0 || per() * shape.parts * 2 <= limit))
             shape.parts *= 2;
     }
-    if (in_.settings.count_splits == 0)
+    if (in_.settings.count_splits == 0) {
         while (per() * shape.parts > limit && shape.splits < children) shape.splits *= 2;
+        // A CPU runs a work-group on one core: where a level has fewer parents than the device has
+        // cores (the top levels), their children go to more work-groups, 4 children each at least.
+        if (in_.device.info().type != "gpu")
+            while (parent_count_ * shape.splits * 2 <= in_.device.info().compute_units && per() >= 8)
+                shape.splits *= 2;
+    }
     if (per() * shape.parts > limit || !values_fit())
         throw SettingError(in_.settings.count_parts > 0 ? "count_parts" : "count_splits",
                            fmt::format("count_parts {} with count_splits {} does not fit brick_count's work-group on "

@@ -74,7 +74,7 @@ inline float float_down(double x) {
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
     ocl::Kernel count_k, count_merge_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
-        place_k, keep_k, put_k;
+        key_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -107,7 +107,7 @@ struct BuildPrograms {
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
-          place_k(ocl::make_kernel(order, "brick_place")), keep_k(ocl::make_kernel(order, "brick_keep")),
+          key_k(ocl::make_kernel(order, "brick_key")), place_k(ocl::make_kernel(order, "brick_place")), keep_k(ocl::make_kernel(order, "brick_keep")),
           put_k(ocl::make_kernel(order, "brick_put")) {}
 };
 
