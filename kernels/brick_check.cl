@@ -203,7 +203,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     __local ushort to_fold[CLASS_POINTS];           /* the class's points that need the fold */
     __local float interp[VALUES * SDF_LANES];       /* per point of the class */
     __local float value[CLASS_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
-    __local float deep_cells[CELLS * CELLS * CELLS]; /* 1: every corner beyond the window (below) */
+    __local float deep_cells[VALUES * SDF_LANES];   /* per cell, numbered like its lowest corner: 1 when deep */
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
@@ -234,13 +234,14 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
      * lies beyond the window on one side: at every check point in it or on its boundary, F and the
      * interpolation clamp to the same +-window, an error of 0, so those points are skipped. */
     barrier(CLK_LOCAL_MEM_FENCE); /* every sample stored */
-    for (uint c = lid; c < CELLS * CELLS * CELLS; c += wg) {
-        const int3 lo = (int3)(c % CELLS, (c / CELLS) % CELLS, c / (CELLS * CELLS));
-        float shallowest = INFINITY;
-        for (int c8 = 0; c8 < 8; ++c8)
-            shallowest = fmin(shallowest, fabs(stored[lo.x + (c8 & 1) + SAMPLES * (lo.y + ((c8 >> 1) & 1) +
-                                                                           SAMPLES * (lo.z + (c8 >> 2)))]));
-        deep_cells[c] = shallowest - half_step >= far + 0.8660254f * voxel ? 1.0f : 0.0f;
+    for (uint v = lid; v < VALUES; v += wg) { /* SDF_LANES cells at a time (those past CELLS are never read) */
+        const uint at = v * SDF_LANES;
+        sdf_real shallowest = fabs(load_lanes(stored + at));
+        for (uint c8 = 1; c8 < 8u; ++c8)
+            shallowest = fmin(shallowest, fabs(load_lanes(stored + at + (c8 & 1u) + SAMPLES * ((c8 >> 1) & 1u) +
+                                                          SAMPLES * SAMPLES * (c8 >> 2))));
+        store_lanes(select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), shallowest - half_step >= far + 0.8660254f * voxel),
+                    deep_cells + at);
     }
     float mine = 0.0f;
     for (uint k = 0; k < 7u; ++k) {
@@ -256,7 +257,8 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             sdf_index hx, hy, hz;
             class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
             const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS; /* no point */
-            const sdf_index cell = min(hx >> 1, CELLS - 1) + CELLS * (min(hy >> 1, CELLS - 1) + CELLS * min(hz >> 1, CELLS - 1));
+            const sdf_index cell =
+                min(hx >> 1, CELLS - 1) + SAMPLES * (min(hy >> 1, CELLS - 1) + SAMPLES * min(hz >> 1, CELLS - 1));
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
             const sdf_real settled = select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), fabs(deepest) - half_step - reach >= far);
