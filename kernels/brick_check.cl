@@ -204,6 +204,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     __local float interp[VALUES * SDF_LANES];       /* per point of the class */
     __local float value[CLASS_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
     __local float deep_cells[VALUES * SDF_LANES];   /* per cell, numbered like its lowest corner: 1 when deep */
+    __local float deep_points[VALUES * SDF_LANES];  /* per point number: its cell's deep_cells */
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
@@ -243,6 +244,16 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         store_lanes(select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), shallowest - half_step >= far + 0.8660254f * voxel),
                     deep_cells + at);
     }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    /* A point's cell is the one of its lowest corner, the one below on an axis where that corner is
+     * the last sample: the same in every class, so looked up once here. */
+    for (uint v = lid; v < VALUES; v += wg) {
+        sdf_index hx, hy, hz;
+        class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, (int3)(0), &hx, &hy, &hz);
+        const sdf_index cell =
+            min(hx >> 1, CELLS - 1) + SAMPLES * (min(hy >> 1, CELLS - 1) + SAMPLES * min(hz >> 1, CELLS - 1));
+        store_lanes(gather_lanes(deep_cells, cell), deep_points + v * SDF_LANES);
+    }
     float mine = 0.0f;
     for (uint k = 0; k < 7u; ++k) {
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -257,14 +268,12 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             sdf_index hx, hy, hz;
             class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
             const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS; /* no point */
-            const sdf_index cell =
-                min(hx >> 1, CELLS - 1) + SAMPLES * (min(hy >> 1, CELLS - 1) + SAMPLES * min(hz >> 1, CELLS - 1));
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
             const sdf_real settled = select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), fabs(deepest) - half_step - reach >= far);
             uint settle = 0u; /* lanes settled */
             float ds[SDF_LANES], st[SDF_LANES];
-            sdf_spill_lanes(select(gather_lanes(deep_cells, cell), SDF_SPLAT(1.0f), outside), ds);
+            sdf_spill_lanes(select(load_lanes(deep_points + v * SDF_LANES), SDF_SPLAT(1.0f), outside), ds);
             sdf_spill_lanes(settled, st);
             for (uint l = 0; l < SDF_LANES; ++l) {
                 if (ds[l] != 0.0f) continue; /* no point, or in a deep cell */
