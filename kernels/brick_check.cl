@@ -153,17 +153,54 @@ inline sdf_real point_error(sdf_real interpolated, sdf_real exact, float toleran
     return select(error, SDF_SPLAT(-1.0f), (exact < 0.0f) != (interpolated < 0.0f) && fabs(exact) >= 0.5f * tolerance);
 }
 
+/* Lane masks without a trip through memory: bit l of lane_bits is set where lane l of a comparison's
+ * result is true; lanes_of turns such bits back into a lane mask; max_lanes is the largest lane. */
+#if SDF_LANES == 1
+inline uint lane_bits(sdf_index c) { return c != 0 ? 1u : 0u; }
+inline sdf_index lanes_of(uint bits) { return (int)(bits & 1u); }
+inline float max_lanes(sdf_real v) { return v; }
+#else
+inline uint lane_bits(sdf_index c) {
+    const sdf_index b = c & ((sdf_index)(1) << SDF_LANE_OFFSETS);
+#if SDF_LANES == 16
+    const int8 b8 = b.lo | b.hi;
+#else
+    const int8 b8 = (int8)(0); /* unused */
+#endif
+#if SDF_LANES == 16
+    const int4 b4 = b8.lo | b8.hi;
+#elif SDF_LANES == 8
+    const int4 b4 = b.lo | b.hi;
+#else
+    const int4 b4 = (int4)(0);
+#endif
+#if SDF_LANES >= 8
+    const int2 b2 = b4.lo | b4.hi;
+#elif SDF_LANES == 4
+    const int2 b2 = b.lo | b.hi;
+#else
+    const int2 b2 = b;
+#endif
+    (void)b8;
+    (void)b4;
+    return (uint)(b2.x | b2.y);
+}
+inline sdf_index lanes_of(uint bits) { return (((sdf_index)((int)bits) >> SDF_LANE_OFFSETS) & 1) != 0; }
+inline float max_lanes(sdf_real v) {
+    float m[SDF_LANES];
+    sdf_spill_lanes(v, m);
+    float r = m[0];
+    for (uint l = 1; l < SDF_LANES; ++l) r = fmax(r, m[l]);
+    return r;
+}
+#endif
+
 /* Folds the errors of a value's lanes in `lanes` (a bit mask) into the work-item's worst error, and
- * fails the brick when one is over the tolerance or failed the sign test. */
+ * fails the brick when one is over the tolerance or failed the sign test (an error of -1). */
 inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine, __local int* failed) {
-    float e[SDF_LANES];
-    sdf_spill_lanes(error, e);
-    for (uint l = 0; l < SDF_LANES; ++l) {
-        if (!((lanes >> l) & 1u)) continue;
-        if (e[l] < 0.0f || e[l] > tolerance) *failed = 1;
-        mine = fmax(mine, e[l]);
-    }
-    return mine;
+    const sdf_index on = lanes_of(lanes);
+    if (lane_bits(on & (error < 0.0f || error > tolerance))) *failed = 1;
+    return fmax(mine, max_lanes(select(SDF_SPLAT(0.0f), error, on)));
 }
 
 /* Before the samples are evaluated: per brick, whether it reaches a thin edit (then it fails, and
@@ -270,18 +307,14 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS; /* no point */
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
-            const sdf_real settled = select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), fabs(deepest) - half_step - reach >= far);
-            uint settle = 0u; /* lanes settled */
-            float ds[SDF_LANES], st[SDF_LANES];
-            sdf_spill_lanes(select(load_lanes(deep_points + v * SDF_LANES), SDF_SPLAT(1.0f), outside), ds);
-            sdf_spill_lanes(settled, st);
-            for (uint l = 0; l < SDF_LANES; ++l) {
-                if (ds[l] != 0.0f) continue; /* no point, or in a deep cell */
-                if (st[l] != 0.0f) settle |= 1u << l;
-                /* the list's order follows the atomics, but nothing computed depends on it: each
-                 * point folds its own value, and the error's maximum and `failed` are order-free */
-                else to_fold[atomic_inc(&fold_count)] = (ushort)(v * SDF_LANES + l);
-            }
+            const sdf_index settled = fabs(deepest) - half_step - reach >= far;
+            /* no point, or in a deep cell: skipped */
+            const uint skipped = lane_bits(outside || load_lanes(deep_points + v * SDF_LANES) != 0.0f);
+            const uint settle = lane_bits(settled) & ~skipped;
+            /* the list's order follows the atomics, but nothing computed depends on it: each point
+             * folds its own value, and the error's maximum and `failed` are order-free */
+            for (uint fold = ~(skipped | settle) & ((1u << SDF_LANES) - 1u); fold; fold &= fold - 1u)
+                to_fold[atomic_inc(&fold_count)] = (ushort)(v * SDF_LANES + 31u - clz(fold & (0u - fold)));
             if (settle)
                 mine = keep_errors(point_error(interpolated, copysign(SDF_SPLAT(far), deepest), tolerance, window),
                                    settle, tolerance, mine, &failed);
