@@ -12,7 +12,7 @@
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
  * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
  * Every edit the cull drops fails that distance test, so culling on and off agree.
- * The points go in seven classes, cell centres first (class_odd), a class at a time in values of
+ * The points go in eight classes, cell centres first (class_odd), a class at a time in values of
  * SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose field is known to be
  * beyond the window from a sample (below) are settled at once, and a value with any other point is
  * folded through the brick's list staged in __local chunks as brick_evaluate does, its coordinates
@@ -64,16 +64,18 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
     return thin;
 }
 
-/* The check points in seven classes of one parity each, cell centres first (odd on three axes: where
- * the trilinear error of a smooth field peaks, so a failing brick usually fails in the first class),
- * then face centres (odd on two), then edge midpoints (odd on one). Point i of the class with odd
+/* The check points in eight classes of one parity each, cell centres first (odd on three axes: where
+ * the trilinear error of a smooth field peaks, so a failing brick usually fails there), then face
+ * centres (odd on two), then edge midpoints (odd on one). The cell centres come in two classes: those
+ * of the cells whose coordinates are all even (an eighth of them, spread over the brick), then the
+ * rest, so that most failing bricks stop after a few points. Point i of the class with odd
  * axes `odd` is numbered like sample i = x + S (y + S z): it is h = 2 (x, y, z) + odd on the
  * half-voxel lattice, and its lowest corner is sample i. On an odd axis the coordinate S - 1 has no
  * point (no sample above it): h = 2 S - 1 there, past the lattice's 2 CELLS, and such lanes are
  * skipped. So a value's corners are consecutive samples (loads, not gathers), and its coordinates
  * take a division by the constant S. */
 inline int3 class_odd(uint k) {
-    return k == 0u ? (int3)(1) : k < 4u ? (int3)(k != 1u, k != 2u, k != 3u) : (int3)(k == 4u, k == 5u, k == 6u);
+    return k < 2u ? (int3)(1) : k < 5u ? (int3)(k != 2u, k != 3u, k != 4u) : (int3)(k == 5u, k == 6u, k == 7u);
 }
 
 /* The lattice coordinates of points i of a class, one per lane. */
@@ -292,19 +294,21 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         store_lanes(gather_lanes(deep_cells, cell), deep_points + v * SDF_LANES);
     }
     float mine = 0.0f;
-    for (uint k = 0; k < 7u; ++k) {
+    for (uint k = 0; k < 8u; ++k) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (failed) break; /* read by every work-item between the same barriers */
         if (lid == 0) fold_count = 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
         const int3 odd = class_odd(k);
-        const float reach = (k == 0u ? 0.8660254f : k < 4u ? 0.70710678f : 0.5f) * voxel;
+        const float reach = (k < 2u ? 0.8660254f : k < 5u ? 0.70710678f : 0.5f) * voxel;
         /* SDF_LANES points at a time: those in deep cells are skipped, those known to lie beyond the
          * window settled at once, and the others listed for the fold */
         for (uint v = lid; v < VALUES; v += wg) {
             sdf_index hx, hy, hz;
             class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
-            const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS; /* no point */
+            const sdf_index even = ((hx | hy | hz) & 2) == 0; /* a cell centre of a cell with even coordinates */
+            const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS || /* no point */
+                                      (k == 0u && !even) || (k == 1u && even);
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
             const sdf_index settled = fabs(deepest) - half_step - reach >= far;
