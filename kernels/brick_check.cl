@@ -317,8 +317,11 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             const uint settle = lane_bits(settled) & ~skipped;
             /* the list's order follows the atomics, but nothing computed depends on it: each point
              * folds its own value, and the error's maximum and `failed` are order-free */
-            for (uint fold = ~(skipped | settle) & ((1u << SDF_LANES) - 1u); fold; fold &= fold - 1u)
-                to_fold[atomic_inc(&fold_count)] = (ushort)(v * SDF_LANES + 31u - clz(fold & (0u - fold)));
+            uint fold = ~(skipped | settle) & ((1u << SDF_LANES) - 1u);
+            if (fold) {
+                uint at = atomic_add(&fold_count, popcount(fold));
+                for (; fold; fold &= fold - 1u) to_fold[at++] = (ushort)(v * SDF_LANES + 31u - clz(fold & (0u - fold)));
+            }
             if (settle)
                 mine = keep_errors(point_error(interpolated, copysign(SDF_SPLAT(far), deepest), tolerance, window),
                                    settle, tolerance, mine, &failed);
