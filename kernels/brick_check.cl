@@ -26,6 +26,14 @@
 #define INTERIOR (SAMPLES - 2 * APRON)
 #define CELLS (SAMPLES - 1)
 #define CLASS_POINTS (CELLS * SAMPLES * SAMPLES) /* points of the largest class */
+/* The first class: on CPU lanes the even cell centres come first (class_odd); with one lane (GPUs),
+ * where a class is a few latency-bound phases of a work-group, all cell centres form one class (on
+ * the H200 the extra class made the check 4-8% slower: docs/measurements/roof/d10). */
+#if SDF_LANES > 1
+#define FIRST_CLASS 0u
+#else
+#define FIRST_CLASS 1u
+#endif
 #define VALUES ((SAMPLE_COUNT + SDF_LANES - 1) / SDF_LANES) /* values of SDF_LANES point numbers of a class */
 #define STORED (VALUES * SDF_LANES + SAMPLES * SAMPLES + SAMPLES + 1) /* the corners the last value reads */
 
@@ -294,7 +302,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         store_lanes(gather_lanes(deep_cells, cell), deep_points + v * SDF_LANES);
     }
     float mine = 0.0f;
-    for (uint k = 0; k < 8u; ++k) {
+    for (uint k = FIRST_CLASS; k < 8u; ++k) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (failed) break; /* read by every work-item between the same barriers */
         if (lid == 0) fold_count = 0u;
@@ -308,7 +316,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
             const sdf_index even = ((hx | hy | hz) & 2) == 0; /* a cell centre of a cell with even coordinates */
             const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS || /* no point */
-                                      (k == 0u && !even) || (k == 1u && even);
+                                      (k == 0u && !even) || (k == 1u && FIRST_CLASS == 0u && even);
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
             const sdf_index settled = fabs(deepest) - half_step - reach >= far;
