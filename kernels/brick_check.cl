@@ -12,12 +12,12 @@
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
  * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
  * Every edit the cull drops fails that distance test, so culling on and off agree.
- * The points go in eight classes, cell centres first (class_odd), a class at a time in values of
- * SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose field is known to be
- * beyond the window from a sample (below) are settled at once, and a value with any other point is
- * folded through the brick's list staged in __local chunks as brick_evaluate does, its coordinates
- * computed in lanes; a work-group stops after the first class with a failing point. Writes the
- * brick's worst error (INFINITY when it failed) and whether it passed.
+ * The points go in eight classes (seven with one lane), cell centres first (class_odd), a class at a
+ * time in values of SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose
+ * field is known to be beyond the window from a sample (below) are settled at once, and a value with
+ * any other point is folded through the brick's list staged in __local chunks as brick_evaluate does,
+ * its coordinates computed in lanes; a work-group stops after the first class with a failing point.
+ * Writes the brick's worst error (INFINITY when it failed) and whether it passed.
  * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */
 #include "sdf_build.h"
 #include "sdf_format.h"
@@ -117,7 +117,6 @@ inline sdf_index list_lanes(__local const ushort* list, uint k, uint count) {
 #endif
 }
 
-
 /* One corner into the sum and the deepest sample so far (strictly deeper replaces it). */
 inline void add_corner(sdf_real* sum, sdf_real* deep, sdf_real v) {
     *sum += v;
@@ -174,25 +173,17 @@ inline uint lane_bits(sdf_index c) {
     const sdf_index b = c & ((sdf_index)(1) << SDF_LANE_OFFSETS);
 #if SDF_LANES == 16
     const int8 b8 = b.lo | b.hi;
-#else
-    const int8 b8 = (int8)(0); /* unused */
-#endif
-#if SDF_LANES == 16
     const int4 b4 = b8.lo | b8.hi;
 #elif SDF_LANES == 8
     const int4 b4 = b.lo | b.hi;
-#else
-    const int4 b4 = (int4)(0);
-#endif
-#if SDF_LANES >= 8
-    const int2 b2 = b4.lo | b4.hi;
 #elif SDF_LANES == 4
-    const int2 b2 = b.lo | b.hi;
+    const int4 b4 = b;
+#endif
+#if SDF_LANES >= 4
+    const int2 b2 = b4.lo | b4.hi;
 #else
     const int2 b2 = b;
 #endif
-    (void)b8;
-    (void)b4;
     return (uint)(b2.x | b2.y);
 }
 inline sdf_index lanes_of(uint bits) { return (((sdf_index)((int)bits) >> SDF_LANE_OFFSETS) & 1) != 0; }

@@ -107,8 +107,8 @@ struct BuildPrograms {
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
-          key_k(ocl::make_kernel(order, "brick_key")), place_k(ocl::make_kernel(order, "brick_place")), keep_k(ocl::make_kernel(order, "brick_keep")),
-          put_k(ocl::make_kernel(order, "brick_put")) {}
+          key_k(ocl::make_kernel(order, "brick_key")), place_k(ocl::make_kernel(order, "brick_place")),
+          keep_k(ocl::make_kernel(order, "brick_keep")), put_k(ocl::make_kernel(order, "brick_put")) {}
 };
 
 // The thresholds, saturation and margins of one geometry's build (docs/construction.md).
