@@ -27,6 +27,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
                     nullptr,
                     allocate<float>(in_.device, n, "the check errors"),
                     allocate<cl_uint>(in_.device, n, "the check results"),
+                    nullptr,
                     nullptr};
     const float band = std::ldexp(in_.plan.band, in_.plan.shift(level));
     const auto voxel = static_cast<float>(std::ldexp(in_.plan.voxel, in_.plan.shift(level)));
@@ -134,7 +135,7 @@ void AdaptiveLeaves::keep_lists(int level, std::unique_ptr<ocl::Buffer<cl_uint>>
 
 void AdaptiveLeaves::add_finest(std::uint64_t count) {
     checked_.push_back({in_.plan.finest(), count, nullptr, ocl::Buffer<float>(in_.device, 0),
-                        ocl::Buffer<cl_uint>(in_.device, 0), nullptr});
+                        ocl::Buffer<cl_uint>(in_.device, 0), nullptr, nullptr});
 }
 
 std::uint64_t AdaptiveLeaves::leaves_of(int level) const {
