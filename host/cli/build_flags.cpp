@@ -42,7 +42,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
                                                      "changes no bit)");
     cmd->add_option("--count-splits", s.count_splits, "work-groups per parent in the count stage, each with a share of "
                                                        "its children: a power of two up to 64 (default 0: as few as hold "
-                                                       "--count-parts within the kernel's work-group limit; changes no bit)");
+                                                       "--count-parts within the kernel's work-group limit, and on CPUs "
+                                                       "as many as the cores at levels with fewer parents; changes no "
+                                                       "bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("!--no-skip-far", s.skip_far,
                   "the leaf evaluation evaluates sphere and capsule edits at every sample, also where they cannot "

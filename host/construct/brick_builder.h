@@ -54,7 +54,9 @@ struct BuildSettings {
     int count_parts = 0;
     // Work-groups per parent in the count stage (a power of two up to 64, at most a parent's children;
     // changes no bit): each takes a share of the children and stages the whole list. 0 = automatic:
-    // as few as hold count_parts work-items per child within the count kernel's work-group limit.
+    // as few as hold count_parts work-items per child within the count kernel's work-group limit; on
+    // CPUs, at levels with fewer parents than compute units, as many as the units (4 children each
+    // at least).
     int count_splits = 0;
     bool cull = true;
     // In the leaf evaluation with one lane (GPUs), sphere and capsule edits (adds and subtracts) skip
