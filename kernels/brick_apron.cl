@@ -1,6 +1,6 @@
 /* brick_apron.cl: stage "apron". The samples of a leaf brick that lie in a neighbour's interior are
  * evaluated once, by the neighbour, and copied (sdf_apron.h gives the regions):
- *   brick_keys:   every leaf's Morton key (leaves are in key order);
+ *   brick_keys (brick_order.cl): every leaf's Morton key (leaves are in key order);
  *   brick_owned:  per leaf, the regions it evaluates itself: its interior and every region whose
  *                 neighbour of the same level is not a leaf (a binary search per direction), and
  *                 the neighbours of the others;
@@ -14,11 +14,6 @@
 #include "sdf_morton.h"
 
 #define NO_BRICK 0xFFFFFFFFu
-
-__kernel void brick_keys(__global const SdfBrick* bricks, uint count, uint finest, uint log2b, __global ulong* keys) {
-    const uint i = get_global_id(0);
-    if (i < count) keys[i] = sdf_brick_key(bricks[i], finest, log2b);
-}
 
 /* The leaf of b's level at b's coord + d, or NO_BRICK. */
 inline uint find_neighbour(__global const SdfBrick* bricks, __global const ulong* keys, uint count, SdfBrick b,

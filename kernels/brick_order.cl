@@ -2,8 +2,8 @@
  * in Morton order already, and the merged list must be too (the LBVH is built on it), with no sort:
  *   brick_split: a checked level's bricks -> its leaves (passed) and the next level's parents, both
  *                in their order (offsets: exclusive scan of passed);
- *   brick_key:   each leaf's finest-level Morton key (of every level, concatenated level by level,
- *                level_first[m] the first of level m);
+ *   brick_keys:  each leaf's finest-level Morton key (of every level, concatenated level by level,
+ *                level_first[m] the first of level m; the apron stage keys the merged leaves with it);
  *   brick_rank:  for each leaf, its position in the merged list = the leaves of every level whose key
  *                is smaller (a binary search per level over the keys; keys are distinct because
  *                leaves are disjoint cells);
@@ -23,9 +23,9 @@ __kernel void brick_split(__global const SdfBrick* bricks, uint count, __global 
     else parents[i - before] = bricks[i];
 }
 
-__kernel void brick_key(__global const SdfBrick* leaves, uint total, uint finest, uint log2b, __global ulong* keys) {
+__kernel void brick_keys(__global const SdfBrick* bricks, uint count, uint finest, uint log2b, __global ulong* keys) {
     const uint i = get_global_id(0);
-    if (i < total) keys[i] = sdf_brick_key(leaves[i], finest, log2b);
+    if (i < count) keys[i] = sdf_brick_key(bricks[i], finest, log2b);
 }
 
 __kernel void brick_rank(__global const ulong* keys, __global const uint* level_first, uint level_count, uint total,

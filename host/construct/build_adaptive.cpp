@@ -112,8 +112,8 @@ std::uint64_t AdaptiveLeaves::assemble(Levels& levels) {
     const auto& k = in_.programs;
     const auto count = static_cast<cl_uint>(total);
     ocl::Buffer<cl_ulong> keys = allocate<cl_ulong>(in_.device, total, "the leaf keys");
-    ocl::set_args(k.key_k.get(), all, count, static_cast<cl_uint>(in_.plan.finest()), in_.plan.log2b, keys);
-    in_.scheduler.launch(measure::Stage::order, -1, k.key_k.get(), round_up(total, kGroup1d), kGroup1d);
+    ocl::set_args(k.keys_k.get(), all, count, static_cast<cl_uint>(in_.plan.finest()), in_.plan.log2b, keys);
+    in_.scheduler.launch(measure::Stage::order, -1, k.keys_k.get(), round_up(total, kGroup1d), kGroup1d);
     ocl::set_args(k.rank_k.get(), keys, first_d, static_cast<cl_uint>(checked_.size()), count, positions);
     in_.scheduler.launch(measure::Stage::order, -1, k.rank_k.get(), round_up(total, kGroup1d), kGroup1d);
     ocl::set_args(k.place_k.get(), all, positions, count, base_d, static_cast<cl_uint>(in_.plan.finest()), *merged_,

@@ -82,12 +82,12 @@ LeafEvaluation::ApronSharing LeafEvaluation::share_aprons(const ocl::Buffer<SdfB
     ocl::Buffer<cl_ulong> keys = allocate<cl_ulong>(in_.device, leaf_count, "the leaf keys");
     bytes.scratch = std::max<std::uint64_t>(bytes.scratch, owned_->bytes() + a.neighbours.bytes() + keys.bytes());
     a.program.emplace(ocl::build_program(in_.device, "brick_apron.cl", in_.settings.layout().defines()));
-    const ocl::Kernel keys_k = ocl::make_kernel(*a.program, "brick_keys"),
-                      owned = ocl::make_kernel(*a.program, "brick_owned");
+    const ocl::Kernel owned = ocl::make_kernel(*a.program, "brick_owned");
+    const cl_kernel keys_k = in_.programs.keys_k.get();
     const auto count = static_cast<cl_uint>(leaf_count), finest = static_cast<cl_uint>(in_.plan.finest());
     const int leaf_level = in_.plan.domain.levels - 1;
-    ocl::set_args(keys_k.get(), leaves, count, finest, in_.plan.log2b, keys);
-    in_.scheduler.launch(measure::Stage::apron, leaf_level, keys_k.get(), round_up(leaf_count, kGroup1d), kGroup1d);
+    ocl::set_args(keys_k, leaves, count, finest, in_.plan.log2b, keys);
+    in_.scheduler.launch(measure::Stage::apron, leaf_level, keys_k, round_up(leaf_count, kGroup1d), kGroup1d);
     ocl::set_args(owned.get(), leaves, keys, count, finest, in_.plan.log2b, static_cast<cl_uint>(share_edits), *owned_,
                   a.neighbours);
     in_.scheduler.launch(measure::Stage::apron, leaf_level, owned.get(), round_up(leaf_count, kGroup1d), kGroup1d);

@@ -119,7 +119,7 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
 std::uint64_t Levels::count_and_scan(int level) {
     const cl_uint lb = level_log2b(level);
     const std::size_t per_parent = std::size_t{1} << (3 * lb);
-    const std::uint64_t entries = list_entries_.empty() ? in_.edits_host.size() : parent_entries_;
+    const std::uint64_t entries = parent_entries_.empty() ? in_.edits_host.size() : parent_entries_.back();
     const CountShape shape =
         count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
     if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(in_.device, parent_count_, "the child counts");
@@ -195,14 +195,14 @@ void Levels::subdivide(int level, std::uint64_t children) {
 
 // Each child's edit list from its parent's; without culling every brick keeps the whole list.
 void Levels::cull(int level, std::uint64_t children) {
+    std::uint64_t entries = children * in_.edits_host.size();
     if (in_.settings.cull && children > 0) {
         std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, children, in_.plan.cull_saturation(level));
         if (adaptive_) adaptive_->keep_lists(level - 1, std::move(replaced));
-    } else {
-        parent_entries_ = children * in_.edits_host.size();
+        entries = parent_lists_->size();
     }
-    list_entries_.push_back(parent_entries_);
-    parent_entries_by_level_.push_back(parent_entries_);
+    list_entries_.push_back(entries);
+    parent_entries_.push_back(entries);
 }
 
 // Culling a checked level's parents again pays where their lists are long and shrink by half or
@@ -215,7 +215,7 @@ void Levels::cull(int level, std::uint64_t children) {
 // with it (docs/construction.md).
 bool Levels::recull_pays(int level) const {
     constexpr std::uint64_t kLongList = 64;
-    if (in_.device.info().type == "gpu" || parent_entries_ < kLongList * parent_count_) return false;
+    if (in_.device.info().type == "gpu" || parent_entries_.back() < kLongList * parent_count_) return false;
     const double radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
     const double ratio = (in_.plan.parent_saturation(level) + radius) / (in_.plan.cull_saturation(level) + radius);
     return ratio * ratio * ratio <= 0.5;
@@ -229,7 +229,7 @@ void Levels::recull_parents(int level) {
     in_.scheduler.launch(measure::Stage::cull, level, in_.programs.words_k.get(), round_up(parent_count_, kGroup1d),
                          kGroup1d);
     adaptive_->keep_lists(level, cull_lists(level, parent_count_, in_.plan.parent_saturation(level)));
-    parent_entries_by_level_.back() = parent_entries_;
+    parent_entries_.back() = parent_lists_->size();
 }
 
 // What the device runs of a kernel at once, as the count and cull stages size their work: compute
@@ -289,7 +289,6 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     in_.scheduler.launch(measure::Stage::cull, level, k.write_k.get(),
                          round_up(std::max<std::uint64_t>(total_words * 32 / span, children), kGroup1d), kGroup1d);
     bytes.lists += lists->bytes();
-    parent_entries_ = entries;
     std::swap(parent_lists_, lists);
     return lists;
 }

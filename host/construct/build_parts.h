@@ -74,7 +74,7 @@ inline float float_down(double x) {
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
     ocl::Kernel count_k, count_merge_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
-        key_k, place_k, keep_k, put_k;
+        keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -107,7 +107,7 @@ struct BuildPrograms {
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
-          key_k(ocl::make_kernel(order, "brick_key")), place_k(ocl::make_kernel(order, "brick_place")),
+          keys_k(ocl::make_kernel(order, "brick_keys")), place_k(ocl::make_kernel(order, "brick_place")),
           keep_k(ocl::make_kernel(order, "brick_keep")), put_k(ocl::make_kernel(order, "brick_put")) {}
 };
 
@@ -228,7 +228,7 @@ public:
     const std::vector<std::uint64_t>& list_entries() const { return list_entries_; }  // every level's list entries
     // Every level's entries that the next level's count reads: its parents' lists (re-culled ones in
     // adaptive builds).
-    const std::vector<std::uint64_t>& parent_entries() const { return parent_entries_by_level_; }
+    const std::vector<std::uint64_t>& parent_entries() const { return parent_entries_; }
 
     // Bytes of the build's records, lists and largest scratch (the memory report).
     struct Bytes {
@@ -271,8 +271,7 @@ private:
     std::size_t parent_count_ = 1;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;
     std::vector<std::uint64_t> list_entries_;
-    std::uint64_t parent_entries_ = 0;  // the entries of the parents' lists
-    std::vector<std::uint64_t> parent_entries_by_level_;
+    std::vector<std::uint64_t> parent_entries_;  // every level's, as parent_entries() says
     std::vector<std::uint64_t> kept_;
     ocl::Buffer<cl_uint> counts_, offsets_, words_, bits_;
     ocl::Buffer<cl_uint> sources_, kept_words_;  // per cull word: its first parent entry, kept count
