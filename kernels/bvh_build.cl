@@ -13,6 +13,7 @@
  *                      goes on up. The union (min/max) does not depend on which child came second, so
  *                      the tree is the same bit for bit on every run and device: the atomic only
  *                      counts, it never orders a result.
+ *   bvh_widen          the 4-wide nodes the tracer walks (SdfBvhWideNode), one per binary node.
  * Node i's children: child[c] >= 0 is internal node child[c] (+ node_offset in the shared array),
  * child[c] < 0 is leaf ~child[c]. */
 #include "sdf_morton.h"
@@ -166,4 +167,54 @@ __kernel void bvh_refit(__global const SdfBounds* leaf_boxes, uint n_leaves, uin
         child = (int)node;
         node = parent;
     }
+}
+
+/* Two slots of a wide node, from one child of a binary node: an internal child gives its own two
+ * children, a leaf gives itself and an unused slot. */
+typedef struct BvhPair {
+    float lo[2][3], hi[2][3];
+    int child[2];
+} BvhPair;
+
+inline BvhPair bvh_pair(__global const SdfBvhNode* nodes, int child, const float* lo, const float* hi) {
+    BvhPair p;
+    if (child >= 0) {
+        const SdfBvhNode m = nodes[child];
+        for (int a = 0; a < 3; ++a) {
+            p.lo[0][a] = m.lo0[a];
+            p.hi[0][a] = m.hi0[a];
+            p.lo[1][a] = m.lo1[a];
+            p.hi[1][a] = m.hi1[a];
+        }
+        p.child[0] = m.child[0];
+        p.child[1] = m.child[1];
+        return p;
+    }
+    for (int a = 0; a < 3; ++a) {
+        p.lo[0][a] = lo[a];
+        p.hi[0][a] = hi[a];
+        p.lo[1][a] = p.hi[1][a] = 0.0f;
+    }
+    p.child[0] = child;
+    p.child[1] = SDF_WIDE_EMPTY;
+    return p;
+}
+
+/* Wide node i from binary node i: slots 0-1 from child 0, 2-3 from child 1 (bvh_pair); a repeated
+ * leaf (a tree of one leaf) is taken once. Child indices are those of the shared array, so one launch
+ * covers every tree in it. Pure copies: the same bits on every device. */
+__kernel void bvh_widen(__global const SdfBvhNode* nodes, uint count, __global SdfBvhWideNode* wide) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
+    const SdfBvhNode n = nodes[i];
+    const BvhPair p = bvh_pair(nodes, n.child[0], n.lo0, n.hi0);
+    BvhPair q = bvh_pair(nodes, n.child[1], n.lo1, n.hi1);
+    if (n.child[1] == n.child[0]) q.child[0] = SDF_WIDE_EMPTY;
+    __global float4* out = (__global float4*)(wide + i);
+    for (int a = 0; a < 3; ++a) {
+        out[a] = (float4)(p.lo[0][a], p.lo[1][a], q.lo[0][a], q.lo[1][a]);
+        out[3 + a] = (float4)(p.hi[0][a], p.hi[1][a], q.hi[0][a], q.hi[1][a]);
+    }
+    out[6] = as_float4((int4)(p.child[0], p.child[1], q.child[0], q.child[1]));
+    out[7] = (float4)(0.0f);
 }

@@ -17,7 +17,8 @@
  * Hits. The surface is the first t where the trilinear field is <= 0. A ray that enters a brick
  * already inside the solid hits at the entry (a camera inside the solid sees the inner side of the
  * band around it). Bricks are visited near first and a brick is only
- * searched up to the nearest hit found so far, so the result is the nearest hit whatever the order. */
+ * searched up to the nearest hit found so far; of equally near hits the one on the lowest (instance,
+ * brick) wins, so the result does not depend on the order. */
 #ifndef SDFBRICK_SDF_TRACE_H
 #define SDFBRICK_SDF_TRACE_H
 
@@ -25,7 +26,8 @@
 
 #define S SAMPLES
 #define S3 (SAMPLES * SAMPLES * SAMPLES)
-#define BVH_STACK 64              /* a radix tree over 63-bit keys is at most 63 deep */
+#define BVH_STACK 96              /* a wide node pushes at most 3 slots; a path of a radix tree over 63-bit
+                                     keys, at most 63 binary nodes deep, visits at most 32 wide nodes */
 #define SPHERE_EPS 0.01f          /* sphere tracing: hit when the field is below this many voxels */
 #define SPHERE_MAX_STEPS 64       /* sphere tracing: steps per brick */
 #define ROOT_ITERATIONS 8         /* analytic: regula falsi (Illinois) iterations per root */
@@ -48,13 +50,6 @@ inline float3 tr_inverse(float3 d) {
     return (float3)(1.0f / (fabs(d.x) < tiny ? copysign(tiny, d.x) : d.x),
                     1.0f / (fabs(d.y) < tiny ? copysign(tiny, d.y) : d.y),
                     1.0f / (fabs(d.z) < tiny ? copysign(tiny, d.z) : d.z));
-}
-
-/* Slab test of the box [lo, hi] against the ray segment [t0, t1]: returns the entry, sets *exit. */
-inline float tr_slab(float3 lo, float3 hi, float3 o, float3 inv_d, float t0, float t1, float* exit) {
-    const float3 a = (lo - o) * inv_d, b = (hi - o) * inv_d;
-    *exit = fmin(tr_min3(fmax(a, b)), t1);
-    return fmax(tr_max3(fmin(a, b)), t0);
 }
 
 /* ---- the field inside one brick ---- */
@@ -286,10 +281,10 @@ inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float
 
 /* The scene's bricks and trees, as kernel arguments pass them. */
 typedef struct TraceScene {
-    __global const SdfBvhNode* tlas;
+    __global const SdfBvhWideNode* tlas;
     __global const SdfInstance* instances;
     __global const SdfBrickGeometry* geometries;
-    __global const SdfBvhNode* nodes;
+    __global const SdfBvhWideNode* nodes;
     __global const sample_t* pool;
     __global const uint* shifts; /* per brick: its voxel is the geometry's finest voxel * 2^shift */
 } TraceScene;
@@ -306,63 +301,78 @@ typedef struct TraceHit {
     uint capped;     /* 1 when a brick's search stopped at a loop bound */
 } TraceHit;
 
-/* One node's two children against the ray segment [t_min, t_far]: entries n, exits x, boxes' minimum
- * corners, child indices, and whether each is hit (a repeated child counts once). */
-typedef struct TraceChildren {
-    float n[2], x[2];
-    float3 lo[2];
-    int c[2];
-    int h[2];
-} TraceChildren;
+/* Stack entries: a wide node's index, or TR_LEAF | node << 2 | slot for a leaf slot, searched when it
+ * is popped (so nothing of a visited node stays in registers while a brick or an instance is searched). */
+#define TR_LEAF 0x80000000u
+#define TR_NONE 0xFFFFFFFFu
 
-inline TraceChildren tr_visit(__global const SdfBvhNode* nodes, uint i, float3 o, float3 inv_d, float t_min,
-                              float t_far) {
-    __global const float4* v = (__global const float4*)(nodes + i);
-    const float4 a = v[0], b = v[1], c = v[2];
-    const int4 e = as_int4(v[3]);
-    TraceChildren ch;
-    ch.lo[0] = a.xyz;
-    ch.lo[1] = (float3)(b.z, b.w, c.x);
-    ch.n[0] = tr_slab(ch.lo[0], (float3)(a.w, b.x, b.y), o, inv_d, t_min, t_far, &ch.x[0]);
-    ch.n[1] = tr_slab(ch.lo[1], c.yzw, o, inv_d, t_min, t_far, &ch.x[1]);
-    ch.c[0] = e.x;
-    ch.c[1] = e.y;
-    ch.h[0] = ch.n[0] <= ch.x[0];
-    ch.h[1] = ch.n[1] <= ch.x[1] && e.y != e.x;
-    return ch;
+/* Puts the entries a < b in order of their keys (ties keep the slot order). */
+inline void tr_order(float* key, uint* entry, int a, int b) {
+    if (!(key[b] < key[a])) return;
+    const float k = key[a];
+    const uint e = entry[a];
+    key[a] = key[b];
+    entry[a] = entry[b];
+    key[b] = k;
+    entry[b] = e;
 }
 
-/* The order to handle a node's children in: 1 when child 1 is the nearer. */
-inline int tr_near1(const TraceChildren* ch) { return ch->h[0] && ch->h[1] && ch->n[1] < ch->n[0]; }
+/* Slab test of slot k of a wide node against the ray segment [t_min, t_far]: the entry; *exit the exit. */
+inline float tr_slot_slab(__global const SdfBvhWideNode* node, int k, float3 o, float3 inv_d, float t_min,
+                          float t_far, float* exit) {
+    const float3 lo = (float3)(node->lo_x[k], node->lo_y[k], node->lo_z[k]);
+    const float3 hi = (float3)(node->hi_x[k], node->hi_y[k], node->hi_z[k]);
+    const float3 a = (lo - o) * inv_d, b = (hi - o) * inv_d;
+    *exit = fmin(fmin(fmin(fmax(a.x, b.x), fmax(a.y, b.y)), fmax(a.z, b.z)), t_far);
+    return fmax(fmax(fmax(fmin(a.x, b.x), fmin(a.y, b.y)), fmin(a.z, b.z)), t_min);
+}
 
-/* After the leaf children are handled (their h cleared): descends into the nearer internal child that
- * is still in front of bound (pushing the other), or pops the last node pushed (not tested against
- * bound again: its children are, when it is visited; a test here cost the shading kernel 17% on an
- * H200, docs/performance.md).
- * Returns 0 when the tree is done. */
-inline int tr_next(const TraceChildren* ch, float bound, uint* stack, int* sp, uint* node) {
-    const int h0 = ch->h[0] && ch->n[0] <= bound, h1 = ch->h[1] && ch->n[1] <= bound;
-    if (h0 && h1) {
-        const int near1 = ch->n[1] < ch->n[0];
-        stack[*sp] = (uint)ch->c[near1 ? 0 : 1];
-        ++*sp;
-        *node = (uint)ch->c[near1];
-        return 1;
-    }
-    if (h0 || h1) {
-        *node = (uint)ch->c[h0 ? 0 : 1];
-        return 1;
-    }
-    if (*sp > 0) {
-        --*sp;
-        *node = stack[*sp];
-        return 1;
-    }
-    return 0;
+/* Visits wide node i: the slots the segment [t_min, t_far] enters, nearest entry first; returns the
+ * nearest (TR_NONE if none) and pushes the others, the farthest first. Internal slots are not tested
+ * again when popped (their own slots are; a test there cost the shading kernel 17% on an H200,
+ * docs/performance.md); leaf slots are, against the nearest hit by then. */
+inline uint tr_visit(__global const SdfBvhWideNode* nodes, uint i, float3 o, float3 inv_d, float t_min, float t_far,
+                     uint* stack, int* sp) {
+    __global const float4* v = (__global const float4*)(nodes + i);
+    /* four slab tests in one, with the operations of tr_slot_slab in the same order */
+    const float4 ax = (v[0] - o.x) * inv_d.x, bx = (v[3] - o.x) * inv_d.x;
+    const float4 ay = (v[1] - o.y) * inv_d.y, by = (v[4] - o.y) * inv_d.y;
+    const float4 az = (v[2] - o.z) * inv_d.z, bz = (v[5] - o.z) * inv_d.z;
+    const float4 n = fmax(fmax(fmax(fmin(ax, bx), fmin(ay, by)), fmin(az, bz)), t_min);
+    const float4 x = fmin(fmin(fmin(fmax(ax, bx), fmax(ay, by)), fmax(az, bz)), t_far);
+    const int4 c = as_int4(v[6]);
+    const int4 in = n <= x && c != (int4)(SDF_WIDE_EMPTY);
+    const uint4 leaf = (uint4)(TR_LEAF | (i << 2)) + (uint4)(0u, 1u, 2u, 3u);
+    const uint4 e = select(select(leaf, as_uint4(c), c >= (int4)(0)), (uint4)(TR_NONE), as_uint4(!in));
+    float key[4] = {in.x ? n.x : INFINITY, in.y ? n.y : INFINITY, in.z ? n.z : INFINITY, in.w ? n.w : INFINITY};
+    uint entry[4] = {e.x, e.y, e.z, e.w};
+    tr_order(key, entry, 0, 1);
+    tr_order(key, entry, 2, 3);
+    tr_order(key, entry, 0, 2);
+    tr_order(key, entry, 1, 3);
+    tr_order(key, entry, 1, 2);
+    for (int k = 3; k >= 1; --k)
+        if (entry[k] != TR_NONE) stack[(*sp)++] = entry[k];
+    return entry[0];
+}
+
+/* The next entry: the nearest slot of the node just visited, else the last one pushed; TR_NONE when
+ * the tree is done. */
+inline uint tr_next(uint nearest, const uint* stack, int* sp) {
+    if (nearest != TR_NONE) return nearest;
+    if (*sp == 0) return TR_NONE;
+    return stack[--*sp];
 }
 
 /* The far end of the search: t_max, or the nearest hit so far. */
 inline float tr_bound(const TraceHit* hit, float t_max) { return hit->t < 0.0f ? t_max : fmin(hit->t, t_max); }
+
+/* Whether a hit at t on brick b of instance replaces *hit: nearer, or as near on a lower (instance,
+ * brick). So the nearest hit does not depend on the order in which the bricks are searched. */
+inline int tr_nearer(const TraceHit* hit, float t, uint instance, uint b) {
+    if (hit->t < 0.0f || t < hit->t) return 1;
+    return t == hit->t && (instance < hit->instance || (instance == hit->instance && b < hit->brick));
+}
 
 /* Nearer hit than hit->t (any_hit: any hit) in [t_min, t_max] among one geometry's bricks. */
 inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, float3 o, float3 d, float t_min,
@@ -371,34 +381,35 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
     const float voxel_to_stored = g.voxel / g.dequant;
     uint stack[BVH_STACK];
     int sp = 0;
-    uint node = g.root;
-    TraceChildren ch;
-    do {
-        ch = tr_visit(sc->nodes, node, o, inv_d, t_min, tr_bound(hit, t_max));
-        ++hit->visits;
-        const int near1 = tr_near1(&ch);
-        for (int k = 0; k < 2; ++k) { /* leaf children: search their bricks now, the nearer first */
-            const int w = k ^ near1;
-            if (ch.c[w] >= 0 || !ch.h[w]) continue;
-            ch.h[w] = 0;
-            const float limit = fmin(ch.x[w], tr_bound(hit, t_max));
-            if (ch.n[w] > limit) continue;
-            const uint b = g.brick_offset + (uint)(~ch.c[w]);
+    for (uint e = g.root; e != TR_NONE;) {
+        if (!(e & TR_LEAF)) {
+            ++hit->visits;
+            e = tr_next(tr_visit(sc->nodes, e, o, inv_d, t_min, tr_bound(hit, t_max), stack, &sp), stack, &sp);
+            continue;
+        }
+        __global const SdfBvhWideNode* node = sc->nodes + ((e & ~TR_LEAF) >> 2);
+        const int k = (int)(e & 3u);
+        float limit;
+        const float enter = tr_slot_slab(node, k, o, inv_d, t_min, tr_bound(hit, t_max), &limit);
+        if (enter <= limit) {
+            const uint b = g.brick_offset + (uint)(~node->child[k]);
             const float inv_voxel = ldexp(g.inv_voxel, -(int)sc->shifts[b]);
-            const float t = tr_brick(sc->pool + (size_t)b * S3, ch.lo[w], o, d, ch.n[w], limit, inv_voxel,
-                                     len_scale, voxel_to_stored, &hit->steps, &hit->capped, any_hit);
-            if (t >= 0.0f && (hit->t < 0.0f || t < hit->t)) {
+            const float3 lo = (float3)(node->lo_x[k], node->lo_y[k], node->lo_z[k]);
+            const float t = tr_brick(sc->pool + (size_t)b * S3, lo, o, d, enter, limit, inv_voxel, len_scale,
+                                     voxel_to_stored, &hit->steps, &hit->capped, any_hit);
+            if (t >= 0.0f && tr_nearer(hit, t, instance, b)) {
                 hit->t = t;
                 hit->brick = b;
                 hit->instance = instance;
-                hit->lo = ch.lo[w];
+                hit->lo = lo;
                 hit->inv_voxel = inv_voxel;
                 hit->o = o;
                 hit->d = d;
                 if (any_hit) return;
             }
         }
-    } while (tr_next(&ch, tr_bound(hit, t_max), stack, &sp, &node));
+        e = tr_next(TR_NONE, stack, &sp);
+    }
 }
 
 /* Nearest hit (with any_hit: any hit) of the world ray o + t d, t in [t_min, t_max]: the top level
@@ -416,29 +427,29 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
     const float3 inv_d = tr_inverse(d);
     uint stack[BVH_STACK];
     int sp = 0;
-    uint node = 0u;
-    TraceChildren ch;
-    do {
-        ch = tr_visit(sc->tlas, node, o, inv_d, t_min, tr_bound(&hit, t_max));
-        ++hit.visits;
-        const int near1 = tr_near1(&ch);
-        for (int k = 0; k < 2; ++k) {
-            const int w = k ^ near1;
-            if (ch.c[w] >= 0 || !ch.h[w]) continue;
-            ch.h[w] = 0;
-            const uint inst = (uint)(~ch.c[w]);
-            const SdfInstance in = sc->instances[inst];
-            const SdfBrickGeometry g = sc->geometries[in.geometry];
-            if (g.root == SDF_NO_NODE || ch.n[w] > tr_bound(&hit, t_max)) continue;
-            const float* m = in.world_to_geometry;
-            const float3 r0 = (float3)(m[0], m[1], m[2]), r1 = (float3)(m[3], m[4], m[5]), r2 = (float3)(m[6], m[7], m[8]);
-            const float3 q = o - (float3)(in.translation[0], in.translation[1], in.translation[2]);
-            const float3 og = (float3)(tr_dot(r0, q), tr_dot(r1, q), tr_dot(r2, q));
-            const float3 dg = (float3)(tr_dot(r0, d), tr_dot(r1, d), tr_dot(r2, d));
-            tr_blas(sc, g, inst, og, dg, t_min, t_max, 1.0f / sqrt(tr_dot(dg, dg)), any_hit, &hit);
-            if (any_hit && hit.t >= 0.0f) return hit;
+    for (uint e = 0u; e != TR_NONE;) {
+        if (!(e & TR_LEAF)) {
+            ++hit.visits;
+            e = tr_next(tr_visit(sc->tlas, e, o, inv_d, t_min, tr_bound(&hit, t_max), stack, &sp), stack, &sp);
+            continue;
         }
-    } while (tr_next(&ch, tr_bound(&hit, t_max), stack, &sp, &node));
+        __global const SdfBvhWideNode* node = sc->tlas + ((e & ~TR_LEAF) >> 2);
+        const int k = (int)(e & 3u);
+        e = tr_next(TR_NONE, stack, &sp);
+        float exit;
+        if (tr_slot_slab(node, k, o, inv_d, t_min, tr_bound(&hit, t_max), &exit) > exit) continue;
+        const uint inst = (uint)(~node->child[k]);
+        const SdfInstance in = sc->instances[inst];
+        const SdfBrickGeometry g = sc->geometries[in.geometry];
+        if (g.root == SDF_NO_NODE) continue;
+        const float* m = in.world_to_geometry;
+        const float3 r0 = (float3)(m[0], m[1], m[2]), r1 = (float3)(m[3], m[4], m[5]), r2 = (float3)(m[6], m[7], m[8]);
+        const float3 q = o - (float3)(in.translation[0], in.translation[1], in.translation[2]);
+        const float3 og = (float3)(tr_dot(r0, q), tr_dot(r1, q), tr_dot(r2, q));
+        const float3 dg = (float3)(tr_dot(r0, d), tr_dot(r1, d), tr_dot(r2, d));
+        tr_blas(sc, g, inst, og, dg, t_min, t_max, 1.0f / sqrt(tr_dot(dg, dg)), any_hit, &hit);
+        if (any_hit && hit.t >= 0.0f) return hit;
+    }
     return hit;
 }
 

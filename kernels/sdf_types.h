@@ -147,6 +147,25 @@ typedef struct SdfBvhNode {
     sdf_u32 pad[2];
 } SdfBvhNode;
 
+/* A node of the 4-wide BVH that the brick tracer walks, made from the binary tree by bvh_widen
+ * (kernels/bvh_build.cl): binary node i gives wide node i, whose slots are node i's children, each
+ * internal child replaced by its own two children. Only the wide nodes at even binary depth are ever
+ * reached; the others cost memory, not traffic (a wide node is one 128-byte line). Boxes are stored by
+ * axis (slot k: lo_x[k] ..), so one slab test covers the four slots. child[k] >= 0: wide node
+ * child[k]; child[k] < 0 and != SDF_WIDE_EMPTY: leaf ~child[k]; SDF_WIDE_EMPTY: an unused slot. */
+typedef struct SdfBvhWideNode {
+    sdf_f32 lo_x[4];
+    sdf_f32 lo_y[4];
+    sdf_f32 lo_z[4];
+    sdf_f32 hi_x[4];
+    sdf_f32 hi_y[4];
+    sdf_f32 hi_z[4];
+    sdf_i32 child[4];
+    sdf_u32 pad[4];
+} SdfBvhWideNode;
+
+#define SDF_WIDE_EMPTY (-2147483647 - 1)
+
 /* One object instance: world -> geometry frame is p_g = M (p_w - translation), M = R^T / scale given
  * by its rows; a world direction maps by M alone, so a ray parameter t is the same in both frames.
  * A geometry-frame normal n maps to the world as normalize(M^T n). */

@@ -34,9 +34,9 @@ inline void sh_frame(float3 n, float3* t1, float3* t2) {
     *t2 = (float3)(b, sign + n.y * n.y * a, -n.y);
 }
 
-__kernel void shade(__global const SdfCamera* camera, __global const SdfBvhNode* tlas,
+__kernel void shade(__global const SdfCamera* camera, __global const SdfBvhWideNode* tlas,
                     __global const SdfInstance* instances, __global const SdfBrickGeometry* geometries,
-                    __global const SdfBvhNode* nodes, __global const sample_t* pool, __global const uint* shifts,
+                    __global const SdfBvhWideNode* nodes, __global const sample_t* pool, __global const uint* shifts,
                     __global const SdfShading* shading,
                     __global const float4* hits, __global float4* colour) {
     const uint x = get_global_id(0), y = get_global_id(1);

@@ -6,9 +6,9 @@
 #include "sdf_camera.h"
 #include "sdf_trace.h"
 
-__kernel void trace_primary(__global const SdfCamera* camera, __global const SdfBvhNode* tlas,
+__kernel void trace_primary(__global const SdfCamera* camera, __global const SdfBvhWideNode* tlas,
                             __global const SdfInstance* instances, __global const SdfBrickGeometry* geometries,
-                            __global const SdfBvhNode* nodes, __global const sample_t* pool,
+                            __global const SdfBvhWideNode* nodes, __global const sample_t* pool,
                             __global const uint* shifts, __global float4* out_hit,
                             __global uint2* out_aux) {
     const uint x = get_global_id(0), y = get_global_id(1);

@@ -18,6 +18,7 @@ namespace {
 
 constexpr std::size_t kGroup = 64;
 constexpr cl_uint kFlagUnsorted = 1u, kFlagTooLarge = 2u, kFlagStuck = 4u;  // kernels/bvh_build.cl
+constexpr std::size_t kMaxNodes = std::size_t{1} << 29;  // the tracer's stack entries hold node << 2 (sdf_trace.h)
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 
@@ -64,12 +65,13 @@ std::uint64_t spread16(std::uint64_t v) {
 
 struct BvhBuilder::Programs {
     ocl::Program program;
-    ocl::Kernel morton, hierarchy, refit;
+    ocl::Kernel morton, hierarchy, refit, widen;
     explicit Programs(ocl::Device& d)
         : program(ocl::build_program(d, "bvh_build.cl")),
           morton(ocl::make_kernel(program, "bvh_morton_bricks")),
           hierarchy(ocl::make_kernel(program, "bvh_hierarchy")),
-          refit(ocl::make_kernel(program, "bvh_refit")) {}
+          refit(ocl::make_kernel(program, "bvh_refit")),
+          widen(ocl::make_kernel(program, "bvh_widen")) {}
 };
 
 BvhBuilder::BvhBuilder(ocl::Device& device) : device_(device), programs_(std::make_unique<Programs>(device)) {}
@@ -101,6 +103,15 @@ void BvhBuilder::build_tree(measure::Scheduler& scheduler, measure::Stage stage,
                   scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot), flags);
     const std::size_t global = round_up(n, kGroup);
     scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
+}
+
+std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> BvhBuilder::widen(measure::Scheduler& scheduler, measure::Stage stage,
+                                                               const ocl::Buffer<SdfBvhNode>& binary) {
+    auto wide = std::make_unique<ocl::Buffer<SdfBvhWideNode>>(ocl::pooled, device_, std::max<std::size_t>(binary.size(), 1));
+    if (binary.size() == 0) return wide;
+    ocl::set_args(programs_->widen.get(), binary, static_cast<cl_uint>(binary.size()), *wide);
+    scheduler.launch(stage, -1, programs_->widen.get(), round_up(binary.size(), kGroup), kGroup);
+    return wide;
 }
 
 // The top level's leaves: the instances of geometries with bricks, ordered by the Morton key of their
@@ -176,6 +187,9 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
         total_nodes += nodes_for(b.leaf_count);
         max_leaves = std::max<std::size_t>(max_leaves, b.leaf_count);
     }
+    if (total_nodes >= kMaxNodes)
+        throw InputError(fmt::format("the scene's bricks need {} BVH nodes; the tracer addresses fewer than {}",
+                                     total_nodes, kMaxNodes));
     out.nodes = std::make_unique<ocl::Buffer<SdfBvhNode>>(ocl::pooled, device_, total_nodes);
     out.node_count = total_nodes;
     ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, max_leaves);
@@ -228,59 +242,91 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     ocl::Buffer<SdfBounds> root_boxes(ocl::pooled, device_, builds.size() + 1);
     const std::uint64_t scratch_bytes = build_bottom_levels(builds, scheduler, out, root_boxes, flags);
     build_top_level(order_instances(scene, out, builds.size()), scheduler, out, root_boxes, builds.size(), flags);
+    out.wide_nodes = widen(scheduler, measure::Stage::bvh, *out.nodes);
+    out.wide_tlas = widen(scheduler, measure::Stage::tlas, *out.tlas);
     scheduler.resolve();
     out.device_ms = scheduler.total_ms(first_launch);
-    out.memory["bvh nodes"] = out.nodes->bytes();
-    out.memory["tlas nodes"] = out.tlas->bytes() + out.instances->bytes();
+    out.memory["bvh nodes"] = out.nodes->bytes() + out.wide_nodes->bytes();
+    out.memory["tlas nodes"] = out.tlas->bytes() + out.wide_tlas->bytes() + out.instances->bytes();
     out.memory["bvh scratch"] = scratch_bytes;
     out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
     return out;
 }
 
-std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
+namespace {
+
+// One child slot of a node: its box and child (>= 0 a node, < 0 leaf ~child).
+struct Slot {
+    SdfBounds box;
+    std::int32_t child;
+};
+
+std::vector<Slot> slots_of(const SdfBvhNode& n, std::size_t leaves) {
+    std::vector<Slot> out{{{{n.lo0[0], n.lo0[1], n.lo0[2]}, {n.hi0[0], n.hi0[1], n.hi0[2]}}, n.child[0]}};
+    if (leaves > 1) out.push_back({{{n.lo1[0], n.lo1[1], n.lo1[2]}, {n.hi1[0], n.hi1[1], n.hi1[2]}}, n.child[1]});
+    return out;
+}
+
+std::vector<Slot> slots_of(const SdfBvhWideNode& n, std::size_t) {
+    std::vector<Slot> out;
+    for (int k = 0; k < 4; ++k)
+        if (n.child[k] != SDF_WIDE_EMPTY)
+            out.push_back({{{n.lo_x[k], n.lo_y[k], n.lo_z[k]}, {n.hi_x[k], n.hi_y[k], n.hi_z[k]}}, n.child[k]});
+    return out;
+}
+
+bool contains(const SdfBounds& outer, const SdfBounds& inner) {
+    for (int a = 0; a < 3; ++a)
+        if (inner.lo[a] < outer.lo[a] || inner.hi[a] > outer.hi[a]) return false;
+    return true;
+}
+
+template <class Node>
+std::string check_nodes(std::span<const Node> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
     const std::size_t n = leaf_boxes.size();
     if (n == 0) return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
     if (root >= nodes.size()) return fmt::format("root {} is outside the {} nodes", root, nodes.size());
     std::vector<int> seen(n, 0);
     std::vector<std::uint32_t> stack{root};
     std::size_t visited = 0;
-    auto contains = [](const float* lo, const float* hi, const float* clo, const float* chi) {
-        for (int a = 0; a < 3; ++a)
-            if (clo[a] < lo[a] || chi[a] > hi[a]) return false;
-        return true;
-    };
     while (!stack.empty()) {
         const std::uint32_t i = stack.back();
         stack.pop_back();
         if (i >= nodes.size()) return fmt::format("node index {} is outside the {} nodes", i, nodes.size());
         if (++visited > nodes.size()) return "a node is reached twice (the tree has a cycle or shared subtree)";
-        const SdfBvhNode& node = nodes[i];
-        const int children = n == 1 ? 1 : 2;
-        if (n == 1 && node.child[0] != node.child[1]) return "a one-leaf tree must repeat its leaf";
-        for (int c = 0; c < children; ++c) {
-            const float* lo = c == 0 ? node.lo0 : node.lo1;
-            const float* hi = c == 0 ? node.hi0 : node.hi1;
-            const int child = node.child[c];
-            if (child < 0) {
-                const auto leaf = static_cast<std::size_t>(~child);
+        for (const Slot& slot : slots_of(nodes[i], n)) {
+            if (slot.child < 0) {
+                const auto leaf = static_cast<std::size_t>(~slot.child);
                 if (leaf >= n) return fmt::format("node {} names leaf {} of {}", i, leaf, n);
                 if (seen[leaf]++) return fmt::format("leaf {} is reached twice", leaf);
                 const SdfBounds& b = leaf_boxes[leaf];
-                if (!std::equal(lo, lo + 3, b.lo) || !std::equal(hi, hi + 3, b.hi))
+                if (!std::equal(b.lo, b.lo + 3, slot.box.lo) || !std::equal(b.hi, b.hi + 3, slot.box.hi))
                     return fmt::format("node {} holds a box for leaf {} that is not the leaf's box", i, leaf);
                 continue;
             }
-            const auto ci = static_cast<std::uint32_t>(child);
+            const auto ci = static_cast<std::uint32_t>(slot.child);
             if (ci >= nodes.size()) return fmt::format("node {} names node {} of {}", i, ci, nodes.size());
-            const SdfBvhNode& cn = nodes[ci];
-            if (!contains(lo, hi, cn.lo0, cn.hi0) || !contains(lo, hi, cn.lo1, cn.hi1))
-                return fmt::format("the box of node {} in node {} does not contain its children's boxes", ci, i);
+            for (const Slot& inner : slots_of(nodes[ci], n))
+                if (!contains(slot.box, inner.box))
+                    return fmt::format("the box of node {} in node {} does not contain its children's boxes", ci, i);
             stack.push_back(ci);
         }
     }
     for (std::size_t l = 0; l < n; ++l)
         if (!seen[l]) return fmt::format("leaf {} is not reachable", l);
     return "";
+}
+
+}  // namespace
+
+std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
+    if (leaf_boxes.size() == 1 && root < nodes.size() && nodes[root].child[0] != nodes[root].child[1])
+        return "a one-leaf tree must repeat its leaf";
+    return check_nodes(nodes, root, leaf_boxes);
+}
+
+std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
+    return check_nodes(nodes, root, leaf_boxes);
 }
 
 }  // namespace sdfbrick::bvh

@@ -25,6 +25,8 @@ struct SceneBvh {
     std::unique_ptr<ocl::Buffer<SdfBvhNode>> nodes;       // the bottom levels of all geometries, one array
     std::unique_ptr<ocl::Buffer<SdfBvhNode>> tlas;        // the top level; leaf i = instances[i]
     std::unique_ptr<ocl::Buffer<SdfInstance>> instances;  // in the top level's leaf order
+    // The 4-wide trees the tracer walks: wide node i made from binary node i (kernels/bvh_build.cl).
+    std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> wide_nodes, wide_tlas;
     std::vector<std::uint32_t> roots;        // per geometry: its root in nodes, SDF_NO_NODE without bricks
     std::vector<SdfBounds> geometry_boxes;   // per geometry: the box of its bricks (geometry frame)
     std::vector<std::size_t> instance_objects;  // instances[i] is scene object instance_objects[i]
@@ -56,6 +58,9 @@ private:
                                       SceneBvh& out, ocl::Buffer<SdfBounds>& root_boxes, ocl::Buffer<cl_uint>& flags);
     void build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
                          ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot, ocl::Buffer<cl_uint>& flags);
+    // The wide tree of binary tree `binary` (count nodes).
+    std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> widen(measure::Scheduler& scheduler, measure::Stage stage,
+                                                       const ocl::Buffer<SdfBvhNode>& binary);
     void build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
                     const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                     std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,
@@ -68,5 +73,7 @@ private:
 // from root, a leaf's box in its parent equals leaf_boxes[leaf], and every internal child's box
 // contains both of its children's boxes. Returns "" when it holds, else the first violation.
 std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes);
+// The same for a wide tree (unused slots are SDF_WIDE_EMPTY; every other slot is checked like a child).
+std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes);
 
 }  // namespace sdfbrick::bvh

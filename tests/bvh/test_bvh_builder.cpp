@@ -66,6 +66,9 @@ TEST(Bvh, EveryBrickReachableAndBoxesNested) {
         ASSERT_GT(boxes.size(), 100u);
         EXPECT_EQ(b.bvh.node_count, boxes.size() - 1);
         EXPECT_EQ(bvh::check_tree(nodes, b.bvh.roots[0], boxes), "") << "branching " << branching;
+        const std::vector<SdfBvhWideNode> wide = b.bvh.wide_nodes->read();
+        ASSERT_EQ(wide.size(), nodes.size());
+        EXPECT_EQ(bvh::check_tree(wide, b.bvh.roots[0], boxes), "") << "branching " << branching;
         // The root box is the union of the bricks.
         for (int a = 0; a < 3; ++a) {
             float lo = INFINITY, hi = -INFINITY;
@@ -87,7 +90,12 @@ TEST(Bvh, RebuildsAreValidAndIdentical) {
         const bvh::SceneBvh t = bvh_builder().build(scene, b.builds, test::recorder());
         const std::vector<SdfBvhNode> nodes = t.nodes->read();
         ASSERT_EQ(bvh::check_tree(nodes, t.roots[0], boxes), "") << "rebuild " << i;
-        const std::string d = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
+        const std::vector<SdfBvhWideNode> wide = t.wide_nodes->read();
+        ASSERT_EQ(bvh::check_tree(wide, t.roots[0], boxes), "") << "rebuild " << i;
+        const std::string d = Fnv1a64()
+                                  .add_values(std::span<const SdfBvhNode>(nodes))
+                                  .add_values(std::span<const SdfBvhWideNode>(wide))
+                                  .hex();
         if (i == 0) first = d;
         ASSERT_EQ(d, first) << "rebuild " << i;
     }
@@ -110,6 +118,36 @@ TEST(Bvh, CheckTreeFindsBrokenTrees) {
     EXPECT_NE(bvh::check_tree(std::vector<SdfBvhNode>{top, root}, 0, three), "");
     top.hi0[0] = 2.0f;
     EXPECT_EQ(bvh::check_tree(std::vector<SdfBvhNode>{top, root}, 0, three), "");
+}
+
+// A wide node with three leaf slots and an unused one, then three ways to break it.
+TEST(Bvh, CheckWideTreeFindsBrokenTrees) {
+    const std::vector<SdfBounds> boxes{{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}, {{5, 5, 5}, {6, 6, 6}}};
+    SdfBvhWideNode w{};
+    for (int k = 0; k < 3; ++k) {
+        w.lo_x[k] = boxes[k].lo[0], w.lo_y[k] = boxes[k].lo[1], w.lo_z[k] = boxes[k].lo[2];
+        w.hi_x[k] = boxes[k].hi[0], w.hi_y[k] = boxes[k].hi[1], w.hi_z[k] = boxes[k].hi[2];
+        w.child[k] = ~k;
+    }
+    w.child[3] = SDF_WIDE_EMPTY;
+    EXPECT_EQ(bvh::check_tree(std::vector<SdfBvhWideNode>{w}, 0, boxes), "");
+    SdfBvhWideNode missing = w;
+    missing.child[2] = SDF_WIDE_EMPTY;
+    EXPECT_NE(bvh::check_tree(std::vector<SdfBvhWideNode>{missing}, 0, boxes), "");
+    SdfBvhWideNode wrong_box = w;
+    wrong_box.hi_y[1] = 1.5f;
+    EXPECT_NE(bvh::check_tree(std::vector<SdfBvhWideNode>{wrong_box}, 0, boxes), "");
+    // an internal slot whose box does not contain the node it names
+    SdfBvhWideNode top = w;
+    top.child[2] = 1;
+    top.hi_x[2] = 5.5f;
+    SdfBvhWideNode inner{};
+    inner.lo_x[0] = 5, inner.lo_y[0] = 5, inner.lo_z[0] = 5, inner.hi_x[0] = 6, inner.hi_y[0] = 6, inner.hi_z[0] = 6;
+    inner.child[0] = ~2;
+    inner.child[1] = inner.child[2] = inner.child[3] = SDF_WIDE_EMPTY;
+    EXPECT_NE(bvh::check_tree(std::vector<SdfBvhWideNode>{top, inner}, 0, boxes), "");
+    top.hi_x[2] = 6.0f;
+    EXPECT_EQ(bvh::check_tree(std::vector<SdfBvhWideNode>{top, inner}, 0, boxes), "");
 }
 
 }  // namespace

@@ -7,7 +7,8 @@
 
 __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBounds* bounds,
                            __global const SdfBrick* brick, __global const SdfCamera* camera,
-                           __global const SdfBvhNode* node, __global const SdfInstance* instance,
+                           __global const SdfBvhNode* node, __global const SdfBvhWideNode* wide,
+                           __global const SdfInstance* instance,
                            __global const SdfBrickGeometry* geometry, __global const SdfShading* shading,
                            __global const SdfMeshGrid* mesh, __global uint* out) {
     if (get_global_id(0) != 0) return;
@@ -42,6 +43,10 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
     out[n++] = SDF_OFF(node, lo1);
     out[n++] = SDF_OFF(node, hi1);
     out[n++] = SDF_OFF(node, child);
+    out[n++] = (uint)sizeof(SdfBvhWideNode);
+    out[n++] = SDF_OFF(wide, lo_y);
+    out[n++] = SDF_OFF(wide, hi_x);
+    out[n++] = SDF_OFF(wide, child);
     out[n++] = (uint)sizeof(SdfInstance);
     out[n++] = SDF_OFF(instance, translation);
     out[n++] = SDF_OFF(instance, scale);

@@ -46,6 +46,10 @@ std::vector<cl_uint> host_layout() {
             offsetof(SdfBvhNode, lo1),
             offsetof(SdfBvhNode, hi1),
             offsetof(SdfBvhNode, child),
+            sizeof(SdfBvhWideNode),
+            offsetof(SdfBvhWideNode, lo_y),
+            offsetof(SdfBvhWideNode, hi_x),
+            offsetof(SdfBvhWideNode, child),
             sizeof(SdfInstance),
             offsetof(SdfInstance, translation),
             offsetof(SdfInstance, scale),
@@ -81,6 +85,8 @@ TEST(KernelsLayout, HostSizesHaveNoPadding) {
     static_assert(sizeof(SdfCamera) == 14 * 4);
     static_assert(sizeof(SdfBvhNode) == 16 * 4);  // four 16-byte loads in sdf_trace.h
     static_assert(offsetof(SdfBvhNode, child) == 48);
+    static_assert(sizeof(SdfBvhWideNode) == 32 * 4);  // eight 16-byte loads in sdf_trace.h
+    static_assert(offsetof(SdfBvhWideNode, hi_x) == 48 && offsetof(SdfBvhWideNode, child) == 96);
     static_assert(sizeof(SdfInstance) == 16 * 4);
     static_assert(sizeof(SdfBrickGeometry) == 8 * 4);
     static_assert(sizeof(SdfShading) == 12 * 4);
@@ -98,12 +104,13 @@ TEST(KernelsLayout, DeviceMatchesHost) {
     ocl::Buffer<SdfBrick> brick(device, 1);
     ocl::Buffer<SdfCamera> camera(device, 1);
     ocl::Buffer<SdfBvhNode> node(device, 1);
+    ocl::Buffer<SdfBvhWideNode> wide(device, 1);
     ocl::Buffer<SdfInstance> instance(device, 1);
     ocl::Buffer<SdfBrickGeometry> geometry(device, 1);
     ocl::Buffer<SdfShading> shading(device, 1);
     ocl::Buffer<SdfMeshGrid> mesh(device, 1);
     ocl::Buffer<cl_uint> out(device, std::vector<cl_uint>(expected.size() + 4, 0u));
-    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, instance, geometry, shading, mesh, out);
+    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, wide, instance, geometry, shading, mesh, out);
     ocl::enqueue(device, kernel.get(), "layout_probe", 1);
     const std::vector<cl_uint> got = out.read();
     const char* names[] = {"sizeof SdfTransform", "sizeof SdfEdit", "sizeof SdfBounds", "sizeof SdfBrick",
@@ -113,7 +120,8 @@ TEST(KernelsLayout, DeviceMatchesHost) {
                            "SdfBrick.edit_offset", "SdfBrick.edit_count", "SdfBrick.child_mask",
                            "sizeof SdfCamera", "SdfCamera.forward", "SdfCamera.right", "SdfCamera.up",
                            "SdfCamera.width", "SdfCamera.height", "sizeof SdfBvhNode", "SdfBvhNode.hi0",
-                           "SdfBvhNode.lo1", "SdfBvhNode.hi1", "SdfBvhNode.child", "sizeof SdfInstance",
+                           "SdfBvhNode.lo1", "SdfBvhNode.hi1", "SdfBvhNode.child", "sizeof SdfBvhWideNode",
+                           "SdfBvhWideNode.lo_y", "SdfBvhWideNode.hi_x", "SdfBvhWideNode.child", "sizeof SdfInstance",
                            "SdfInstance.translation", "SdfInstance.scale", "SdfInstance.geometry",
                            "sizeof SdfBrickGeometry", "SdfBrickGeometry.inv_voxel", "SdfBrickGeometry.dequant",
                            "SdfBrickGeometry.root", "SdfBrickGeometry.brick_offset", "sizeof SdfShading",
