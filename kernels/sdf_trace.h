@@ -110,22 +110,39 @@ inline float3 tr_gradient(__global const sample_t* brick, float3 s) {
 }
 
 #if METHOD >= 1
-/* The trilinear field of cell c along s(u) = a + u * b (u in cell units of the ray) as the cubic
- * k[3] u^3 + k[2] u^2 + k[1] u + k[0]: the product of the three linear weights, summed over the corners. */
-inline float4 tr_cell_cubic(__global const sample_t* brick, int3 c, float3 a, float3 b) {
+/* The 8 corner samples of cell c: corner n = dx + 2 dy + 4 dz is component n. */
+inline float8 tr_corners(__global const sample_t* brick, int3 c) {
+    return (float8)(tr_sample(brick, c.x, c.y, c.z), tr_sample(brick, c.x + 1, c.y, c.z),
+                    tr_sample(brick, c.x, c.y + 1, c.z), tr_sample(brick, c.x + 1, c.y + 1, c.z),
+                    tr_sample(brick, c.x, c.y, c.z + 1), tr_sample(brick, c.x + 1, c.y, c.z + 1),
+                    tr_sample(brick, c.x, c.y + 1, c.z + 1), tr_sample(brick, c.x + 1, c.y + 1, c.z + 1));
+}
+
+/* Adds corner (dx, dy, dz)'s value v to the cubic k: the product of the three linear weights, where
+ * along an axis corner 0 weighs (1 - a) - u b and corner 1 a + u b. */
+inline float4 tr_cubic_term(float4 k, float v, int dx, int dy, int dz, float3 a, float3 b) {
+    const float ax = dx ? a.x : 1.0f - a.x, bx = dx ? b.x : -b.x;
+    const float ay = dy ? a.y : 1.0f - a.y, by = dy ? b.y : -b.y;
+    const float az = dz ? a.z : 1.0f - a.z, bz = dz ? b.z : -b.z;
+    k.s0 += v * (ax * ay * az);
+    k.s1 += v * (bx * ay * az + ax * by * az + ax * ay * bz);
+    k.s2 += v * (bx * by * az + bx * ay * bz + ax * by * bz);
+    k.s3 += v * (bx * by * bz);
+    return k;
+}
+
+/* The trilinear field of the cell with corners v along s(u) = a + u * b (u in cell units of the ray)
+ * as the cubic k[3] u^3 + k[2] u^2 + k[1] u + k[0], summed over the corners in order. */
+inline float4 tr_cell_cubic(float8 v, float3 a, float3 b) {
     float4 k = (float4)(0.0f);
-    for (int n = 0; n < 8; ++n) {
-        const int dx = n & 1, dy = (n >> 1) & 1, dz = n >> 2;
-        const float v = tr_sample(brick, c.x + dx, c.y + dy, c.z + dz);
-        /* weight along an axis: corner 0 -> (1 - a) - u b, corner 1 -> a + u b */
-        const float ax = dx ? a.x : 1.0f - a.x, bx = dx ? b.x : -b.x;
-        const float ay = dy ? a.y : 1.0f - a.y, by = dy ? b.y : -b.y;
-        const float az = dz ? a.z : 1.0f - a.z, bz = dz ? b.z : -b.z;
-        k.s0 += v * (ax * ay * az);
-        k.s1 += v * (bx * ay * az + ax * by * az + ax * ay * bz);
-        k.s2 += v * (bx * by * az + bx * ay * bz + ax * by * bz);
-        k.s3 += v * (bx * by * bz);
-    }
+    k = tr_cubic_term(k, v.s0, 0, 0, 0, a, b);
+    k = tr_cubic_term(k, v.s1, 1, 0, 0, a, b);
+    k = tr_cubic_term(k, v.s2, 0, 1, 0, a, b);
+    k = tr_cubic_term(k, v.s3, 1, 1, 0, a, b);
+    k = tr_cubic_term(k, v.s4, 0, 0, 1, a, b);
+    k = tr_cubic_term(k, v.s5, 1, 0, 1, a, b);
+    k = tr_cubic_term(k, v.s6, 0, 1, 1, a, b);
+    k = tr_cubic_term(k, v.s7, 1, 1, 1, a, b);
     return k;
 }
 
@@ -205,11 +222,11 @@ inline float tr_cells(__global const sample_t* brick, float3 s0, float3 ds, floa
         const float u_exit = fmin(tr_min3(exit_u), span);
         ++*steps;
         /* corners all above zero: no root in this cell */
-        float vmin = INFINITY;
-        for (int n = 0; n < 8; ++n) vmin = fmin(vmin, tr_sample(brick, c.x + (n & 1), c.y + ((n >> 1) & 1), c.z + (n >> 2)));
-        if (vmin <= 0.0f && u_exit >= u) {
+        const float8 v = tr_corners(brick, c);
+        const float4 v4 = fmin(v.lo, v.hi);
+        if (fmin(fmin(v4.x, v4.y), fmin(v4.z, v4.w)) <= 0.0f && u_exit >= u) {
             const float3 a = s0 + u * ds - convert_float3(c);
-            const float4 k = tr_cell_cubic(brick, c, a, ds);
+            const float4 k = tr_cell_cubic(v, a, ds);
             const float r = tr_cubic_first_root(k, u_exit - u, any_hit);
             if (r >= 0.0f) return u + r;
         }

@@ -62,9 +62,9 @@ constexpr Measured kMeasured[] = {
     {kH100Pocl, "5.0+debian", "GenuineIntel", kPocl, kTraceKernel, {{{"group_x", 8}, {"group_y", 4}}},
      45.144151, kTraceDefault, 66.751169, 0.125, 1280, 720, 2, "2026-11-22T07:10:52Z", kH100PoclFiles},
     {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kEvaluateKernel, {{{"chunk", 16}, {"group", 64}}},
-     4.212416, kEvaluateDefault, 5.140256, 0.0625, 0, 0, 5, "2026-12-03T08:56:48Z", kH200Files},
-    {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kTraceKernel, {{{"group_x", 4}, {"group_y", 16}}},
-     3.201312, kTraceDefault, 3.353472, 0.0625, 3840, 2160, 5, "2026-12-03T08:56:48Z", kH200Files},
+     4.1536, kEvaluateDefault, 5.09312, 0.0625, 0, 0, 5, "2026-12-03T16:08:04Z", kH200Files},
+    {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kTraceKernel, {{{"group_x", 8}, {"group_y", 16}}},
+     2.072544, kTraceDefault, 2.1704, 0.0625, 3840, 2160, 5, "2026-12-03T16:08:04Z", kH200Files},
 };
 
 Config to_config(const Measured::Params& p) {

@@ -138,11 +138,11 @@ TEST(TuneTuning, BuiltinLayerIsFoundByDeviceNameThenVendor) {
               (tune::Config{{"group_x", 4}, {"group_y", 8}}));
 
     EXPECT_EQ(db.find("NVIDIA H200", "580.159.04", kNvidia, tune::kTraceKernel).params,
-              (tune::Config{{"group_x", 4}, {"group_y", 16}}));
+              (tune::Config{{"group_x", 8}, {"group_y", 16}}));
 
     const tune::Lookup other = db.find("NVIDIA Some Other GPU", "1.0", kNvidia, tune::kTraceKernel);
     EXPECT_EQ(other.source, tune::Source::builtin_vendor) << "the vendor's most recent entry, the H200's";
-    EXPECT_EQ(other.params, (tune::Config{{"group_x", 4}, {"group_y", 16}}));
+    EXPECT_EQ(other.params, (tune::Config{{"group_x", 8}, {"group_y", 16}}));
     EXPECT_EQ(tune::to_string(other.source), "builtin vendor");
     EXPECT_EQ(tune::layer_of(other.source), "builtin");
 
