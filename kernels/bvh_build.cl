@@ -13,7 +13,9 @@
  *                      goes on up. The union (min/max) does not depend on which child came second, so
  *                      the tree is the same bit for bit on every run and device: the atomic only
  *                      counts, it never orders a result.
- *   bvh_widen          the 4-wide nodes the tracer walks (SdfBvhWideNode), one per binary node.
+ *   bvh_parity         which internal nodes sit at even depth in their tree (the root at 0): those
+ *                      become the wide nodes, numbered by an exclusive scan of the marks.
+ *   bvh_widen          the 4-wide nodes the tracer walks (SdfBvhWideNode).
  * Node i's children: child[c] >= 0 is internal node child[c] (+ node_offset in the shared array),
  * child[c] < 0 is leaf ~child[c]. */
 #include "sdf_morton.h"
@@ -200,17 +202,41 @@ inline BvhPair bvh_pair(__global const SdfBvhNode* nodes, int child, const float
     return p;
 }
 
-/* Wide node i from binary node i: slots 0-1 from child 0, 2-3 from child 1 (bvh_pair); a repeated
- * leaf (a tree of one leaf) is taken once. Child indices are those of the shared array, so one launch
- * covers every tree in it. Pure copies: the same bits on every device. */
-__kernel void bvh_widen(__global const SdfBvhNode* nodes, uint count, __global SdfBvhWideNode* wide) {
+/* even[node_offset + i] = 1 when internal node i of the tree is at even depth, else 0; counts[slot]
+ * counts the tree's marks (the atomic only counts). A tree of one leaf has only its root. */
+__kernel void bvh_parity(__global const uint* node_parent, uint n_leaves, uint node_offset, __global uint* even,
+                         __global uint* counts, uint slot) {
     const uint i = get_global_id(0);
-    if (i >= count) return;
+    if (i >= max(n_leaves, 2u) - 1u) return;
+    uint depth = 0;
+    if (n_leaves > 1u) {
+        uint node = i; /* index within the tree; parents are stored as indices in the shared array */
+        for (int up = 0; up < 64 && node_parent[node] != NO_PARENT; ++up) {
+            node = node_parent[node] - node_offset;
+            ++depth;
+        }
+    }
+    even[node_offset + i] = (depth & 1u) == 0u ? 1u : 0u;
+    if ((depth & 1u) == 0u) atomic_inc(&counts[slot]);
+}
+
+/* Wide node map[i] from binary node i at even depth: slots 0-1 from child 0, 2-3 from child 1
+ * (bvh_pair), an internal grandchild named by its own wide index map[g]; a repeated leaf (a tree of
+ * one leaf) is taken once. Indices are those of the shared array, so one launch covers every tree
+ * in it. Pure copies: the same bits on every device. */
+__kernel void bvh_widen(__global const SdfBvhNode* nodes, uint count, __global const uint* even,
+                        __global const uint* map, __global SdfBvhWideNode* wide) {
+    const uint i = get_global_id(0);
+    if (i >= count || even[i] == 0u) return;
     const SdfBvhNode n = nodes[i];
-    const BvhPair p = bvh_pair(nodes, n.child[0], n.lo0, n.hi0);
+    BvhPair p = bvh_pair(nodes, n.child[0], n.lo0, n.hi0);
     BvhPair q = bvh_pair(nodes, n.child[1], n.lo1, n.hi1);
     if (n.child[1] == n.child[0]) q.child[0] = SDF_WIDE_EMPTY;
-    __global float4* out = (__global float4*)(wide + i);
+    p.child[0] = p.child[0] >= 0 ? (int)map[p.child[0]] : p.child[0];
+    p.child[1] = p.child[1] >= 0 ? (int)map[p.child[1]] : p.child[1];
+    q.child[0] = q.child[0] >= 0 ? (int)map[q.child[0]] : q.child[0];
+    q.child[1] = q.child[1] >= 0 ? (int)map[q.child[1]] : q.child[1];
+    __global float4* out = (__global float4*)(wide + map[i]);
     for (int a = 0; a < 3; ++a) {
         out[a] = (float4)(p.lo[0][a], p.lo[1][a], q.lo[0][a], q.lo[1][a]);
         out[3 + a] = (float4)(p.hi[0][a], p.hi[1][a], q.hi[0][a], q.hi[1][a]);

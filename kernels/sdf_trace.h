@@ -41,7 +41,6 @@ inline float3 tr_normalize(float3 a) {
     return l > 0.0f ? a / l : (float3)(0.0f);
 }
 inline float tr_lerp(float a, float b, float t) { return a + (b - a) * t; }
-inline float tr_max3(float3 a) { return fmax(fmax(a.x, a.y), a.z); }
 inline float tr_min3(float3 a) { return fmin(fmin(a.x, a.y), a.z); }
 
 /* 1 / d with zero components replaced by a tiny value of the same sign (no 0 * inf = NaN in slabs). */

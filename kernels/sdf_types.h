@@ -148,11 +148,10 @@ typedef struct SdfBvhNode {
 } SdfBvhNode;
 
 /* A node of the 4-wide BVH that the brick tracer walks, made from the binary tree by bvh_widen
- * (kernels/bvh_build.cl): binary node i gives wide node i, whose slots are node i's children, each
- * internal child replaced by its own two children. Only the wide nodes at even binary depth are ever
- * reached; the others cost memory, not traffic (a wide node is one 128-byte line). Boxes are stored by
- * axis (slot k: lo_x[k] ..), so one slab test covers the four slots. child[k] >= 0: wide node
- * child[k]; child[k] < 0 and != SDF_WIDE_EMPTY: leaf ~child[k]; SDF_WIDE_EMPTY: an unused slot. */
+ * (kernels/bvh_build.cl): each binary node at even depth gives one wide node, whose slots are its
+ * children, each internal child replaced by its own two children. Boxes are stored by axis (slot k:
+ * lo_x[k] ..), so one slab test covers the four slots. child[k] >= 0: wide node child[k];
+ * child[k] < 0 and != SDF_WIDE_EMPTY: leaf ~child[k]; SDF_WIDE_EMPTY: an unused slot. */
 typedef struct SdfBvhWideNode {
     sdf_f32 lo_x[4];
     sdf_f32 lo_y[4];

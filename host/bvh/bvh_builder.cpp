@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "cl/launch.h"
+#include "construct/scan.h"
 #include "cl/program.h"
 #include "core/errors.h"
 #include "scene/to_device.h"
@@ -65,13 +66,16 @@ std::uint64_t spread16(std::uint64_t v) {
 
 struct BvhBuilder::Programs {
     ocl::Program program;
-    ocl::Kernel morton, hierarchy, refit, widen;
+    ocl::Kernel morton, hierarchy, refit, parity, widen;
+    construct::Scan scan;
     explicit Programs(ocl::Device& d)
         : program(ocl::build_program(d, "bvh_build.cl")),
           morton(ocl::make_kernel(program, "bvh_morton_bricks")),
           hierarchy(ocl::make_kernel(program, "bvh_hierarchy")),
           refit(ocl::make_kernel(program, "bvh_refit")),
-          widen(ocl::make_kernel(program, "bvh_widen")) {}
+          parity(ocl::make_kernel(program, "bvh_parity")),
+          widen(ocl::make_kernel(program, "bvh_widen")),
+          scan(d) {}
 };
 
 BvhBuilder::BvhBuilder(ocl::Device& device) : device_(device), programs_(std::make_unique<Programs>(device)) {}
@@ -86,10 +90,18 @@ struct TreeScratch {
     std::uint64_t bytes() const { return node_parent.bytes() + leaf_parent.bytes() + arrivals.bytes(); }
 };
 
+// The binary nodes that become wide ones: even[i] = 1 at even depth in its tree (bvh_parity), and
+// per tree (slot) how many.
+struct WideMarks {
+    ocl::Buffer<cl_uint> even, counts;
+    WideMarks(ocl::Device& d, std::size_t nodes, std::size_t trees)
+        : even(ocl::pooled, d, nodes), counts(ocl::pooled, d, std::vector<cl_uint>(trees, 0u)) {}
+};
+
 void BvhBuilder::build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
                             const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                             std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes,
-                            std::size_t slot, ocl::Buffer<cl_uint>& flags) {
+                            std::size_t slot, ocl::Buffer<cl_uint>& flags, WideMarks& marks) {
     const auto count = static_cast<cl_uint>(n), node_offset = static_cast<cl_uint>(offset);
     const std::vector<cl_uint> zeros(nodes_for(n), 0u);
     scratch.arrivals.write(zeros);
@@ -103,13 +115,20 @@ void BvhBuilder::build_tree(measure::Scheduler& scheduler, measure::Stage stage,
                   scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot), flags);
     const std::size_t global = round_up(n, kGroup);
     scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
+    ocl::set_args(programs_->parity.get(), scratch.node_parent, count, node_offset, marks.even, marks.counts,
+                  static_cast<cl_uint>(slot));
+    scheduler.launch(stage, -1, programs_->parity.get(), round_up(nodes_for(n), kGroup), kGroup);
 }
 
 std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> BvhBuilder::widen(measure::Scheduler& scheduler, measure::Stage stage,
-                                                               const ocl::Buffer<SdfBvhNode>& binary) {
-    auto wide = std::make_unique<ocl::Buffer<SdfBvhWideNode>>(ocl::pooled, device_, std::max<std::size_t>(binary.size(), 1));
+                                                               const ocl::Buffer<SdfBvhNode>& binary,
+                                                               const WideMarks& marks, std::size_t count) {
+    auto wide = std::make_unique<ocl::Buffer<SdfBvhWideNode>>(ocl::pooled, device_, count);
     if (binary.size() == 0) return wide;
-    ocl::set_args(programs_->widen.get(), binary, static_cast<cl_uint>(binary.size()), *wide);
+    ocl::Buffer<cl_uint> map(ocl::pooled, device_, binary.size());
+    if (programs_->scan.exclusive(marks.even, map, binary.size(), scheduler, stage, -1) != count)
+        throw std::logic_error("BVH widen: the marks' scan disagrees with their counts");
+    ocl::set_args(programs_->widen.get(), binary, static_cast<cl_uint>(binary.size()), marks.even, map, *wide);
     scheduler.launch(stage, -1, programs_->widen.get(), round_up(binary.size(), kGroup), kGroup);
     return wide;
 }
@@ -194,6 +213,7 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     out.node_count = total_nodes;
     ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, max_leaves);
     TreeScratch scratch(device_, max_leaves);
+    WideMarks marks(device_, total_nodes, builds.size());
     std::size_t offset = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {
         const construct::GeometryBuild& b = builds[g];
@@ -203,9 +223,18 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
         ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), static_cast<cl_uint>(b.levels - 1),
                       static_cast<cl_uint>(b.branching == 4 ? 2 : 1), keys, flags);
         scheduler.launch(measure::Stage::bvh, -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
-        build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags);
+        build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags,
+                   marks);
         offset += nodes_for(n);
     }
+    // Every tree's root is its first node, at even depth: its wide index is the marks of the trees before.
+    const std::vector<cl_uint> counts = marks.counts.read();
+    std::size_t wide_count = 0;
+    for (std::size_t g = 0; g < builds.size(); ++g) {
+        out.wide_roots.push_back(builds[g].leaf_count == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(wide_count));
+        wide_count += counts[g];
+    }
+    out.wide_nodes = widen(scheduler, measure::Stage::bvh, *out.nodes, marks, wide_count);
     const cl_uint flag = flags.read()[0];
     if (flag & kFlagTooLarge)
         throw SettingError("leaf_size", "a brick coordinate needs more than the 21 bits per axis of the BVH's Morton "
@@ -213,7 +242,7 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
     const std::vector<SdfBounds> boxes = root_boxes.read();
     out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
-    return keys.bytes() + scratch.bytes();
+    return keys.bytes() + scratch.bytes() + marks.even.bytes() + wide_count * sizeof(cl_uint);
 }
 
 void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
@@ -225,9 +254,11 @@ void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& schedu
     ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, std::span<const cl_ulong>(top.keys));
     ocl::Buffer<SdfBounds> boxes(ocl::pooled, device_, std::span<const SdfBounds>(top.boxes));
     TreeScratch scratch(device_, top.instances.size());
+    WideMarks marks(device_, out.tlas->size(), slot + 1);  // counted under the tree's slot, as its root box
     build_tree(scheduler, measure::Stage::tlas, keys, boxes, top.instances.size(), *out.tlas, 0, scratch, root_boxes,
-               slot, flags);
+               slot, flags, marks);
     if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
+    out.wide_tlas = widen(scheduler, measure::Stage::tlas, *out.tlas, marks, marks.counts.read()[slot]);
 }
 
 SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
@@ -242,8 +273,6 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     ocl::Buffer<SdfBounds> root_boxes(ocl::pooled, device_, builds.size() + 1);
     const std::uint64_t scratch_bytes = build_bottom_levels(builds, scheduler, out, root_boxes, flags);
     build_top_level(order_instances(scene, out, builds.size()), scheduler, out, root_boxes, builds.size(), flags);
-    out.wide_nodes = widen(scheduler, measure::Stage::bvh, *out.nodes);
-    out.wide_tlas = widen(scheduler, measure::Stage::tlas, *out.tlas);
     scheduler.resolve();
     out.device_ms = scheduler.total_ms(first_launch);
     out.memory["bvh nodes"] = out.nodes->bytes() + out.wide_nodes->bytes();

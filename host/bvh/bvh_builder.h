@@ -25,9 +25,10 @@ struct SceneBvh {
     std::unique_ptr<ocl::Buffer<SdfBvhNode>> nodes;       // the bottom levels of all geometries, one array
     std::unique_ptr<ocl::Buffer<SdfBvhNode>> tlas;        // the top level; leaf i = instances[i]
     std::unique_ptr<ocl::Buffer<SdfInstance>> instances;  // in the top level's leaf order
-    // The 4-wide trees the tracer walks: wide node i made from binary node i (kernels/bvh_build.cl).
+    // The 4-wide trees the tracer walks, one wide node per binary node at even depth (kernels/bvh_build.cl).
     std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> wide_nodes, wide_tlas;
     std::vector<std::uint32_t> roots;        // per geometry: its root in nodes, SDF_NO_NODE without bricks
+    std::vector<std::uint32_t> wide_roots;   // per geometry: its root in wide_nodes (the top level's is 0)
     std::vector<SdfBounds> geometry_boxes;   // per geometry: the box of its bricks (geometry frame)
     std::vector<std::size_t> instance_objects;  // instances[i] is scene object instance_objects[i]
     std::uint64_t node_count = 0, tlas_node_count = 0;
@@ -38,6 +39,7 @@ struct SceneBvh {
 
 struct TreeScratch;
 struct TopLevel;
+struct WideMarks;
 
 class BvhBuilder {
 public:
@@ -58,13 +60,14 @@ private:
                                       SceneBvh& out, ocl::Buffer<SdfBounds>& root_boxes, ocl::Buffer<cl_uint>& flags);
     void build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
                          ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot, ocl::Buffer<cl_uint>& flags);
-    // The wide tree of binary tree `binary` (count nodes).
+    // The wide trees of the binary trees in `binary`: count wide nodes, from the nodes marked even.
     std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> widen(measure::Scheduler& scheduler, measure::Stage stage,
-                                                       const ocl::Buffer<SdfBvhNode>& binary);
+                                                       const ocl::Buffer<SdfBvhNode>& binary, const WideMarks& marks,
+                                                       std::size_t count);
     void build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
                     const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
                     std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,
-                    ocl::Buffer<cl_uint>& flags);
+                    ocl::Buffer<cl_uint>& flags, WideMarks& marks);
     ocl::Device& device_;
     std::unique_ptr<Programs> programs_;
 };

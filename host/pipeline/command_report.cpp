@@ -188,7 +188,7 @@ TreeCheck check_trees(const render::SceneBricks& bricks) {
         const std::vector<SdfBounds> boxes = bricks.builds[g].aabbs->read();
         std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
         if (p.empty()) {
-            p = bvh::check_tree(wide, bricks.bvh.roots[g], boxes);
+            p = bvh::check_tree(wide, bricks.bvh.wide_roots[g], boxes);
             if (!p.empty()) p = "wide tree: " + p;
         }
         if (!p.empty()) c.problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);

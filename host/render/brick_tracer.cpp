@@ -52,7 +52,7 @@ void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& out,
         e.voxel = static_cast<float>(settings.voxel());
         e.inv_voxel = static_cast<float>(1.0 / settings.voxel());
         e.dequant = layout.dequantise_scale(b.band);
-        e.root = out.bvh.roots[g];
+        e.root = out.bvh.wide_roots[g];
         e.brick_offset = static_cast<sdf_u32>(first);
         table.push_back(e);
         if (out.combined_pool) out.combined_pool->copy_from(*b.pool, first * brick_bytes);

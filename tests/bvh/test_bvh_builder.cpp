@@ -67,8 +67,10 @@ TEST(Bvh, EveryBrickReachableAndBoxesNested) {
         EXPECT_EQ(b.bvh.node_count, boxes.size() - 1);
         EXPECT_EQ(bvh::check_tree(nodes, b.bvh.roots[0], boxes), "") << "branching " << branching;
         const std::vector<SdfBvhWideNode> wide = b.bvh.wide_nodes->read();
-        ASSERT_EQ(wide.size(), nodes.size());
-        EXPECT_EQ(bvh::check_tree(wide, b.bvh.roots[0], boxes), "") << "branching " << branching;
+        // the binary nodes at even depth: between a third and two thirds of them in a balanced tree
+        EXPECT_LT(wide.size() * 3, nodes.size() * 2 + 3);
+        EXPECT_GT(wide.size() * 3, nodes.size() - 3);
+        EXPECT_EQ(bvh::check_tree(wide, b.bvh.wide_roots[0], boxes), "") << "branching " << branching;
         // The root box is the union of the bricks.
         for (int a = 0; a < 3; ++a) {
             float lo = INFINITY, hi = -INFINITY;
@@ -91,7 +93,7 @@ TEST(Bvh, RebuildsAreValidAndIdentical) {
         const std::vector<SdfBvhNode> nodes = t.nodes->read();
         ASSERT_EQ(bvh::check_tree(nodes, t.roots[0], boxes), "") << "rebuild " << i;
         const std::vector<SdfBvhWideNode> wide = t.wide_nodes->read();
-        ASSERT_EQ(bvh::check_tree(wide, t.roots[0], boxes), "") << "rebuild " << i;
+        ASSERT_EQ(bvh::check_tree(wide, t.wide_roots[0], boxes), "") << "rebuild " << i;
         const std::string d = Fnv1a64()
                                   .add_values(std::span<const SdfBvhNode>(nodes))
                                   .add_values(std::span<const SdfBvhWideNode>(wide))
