@@ -209,8 +209,7 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     if (total_nodes >= kMaxNodes)
         throw InputError(fmt::format("the scene's bricks need {} BVH nodes; the tracer addresses fewer than {}",
                                      total_nodes, kMaxNodes));
-    out.nodes = std::make_unique<ocl::Buffer<SdfBvhNode>>(ocl::pooled, device_, total_nodes);
-    out.node_count = total_nodes;
+    ocl::Buffer<SdfBvhNode> binary(ocl::pooled, device_, total_nodes);
     ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, max_leaves);
     TreeScratch scratch(device_, max_leaves);
     WideMarks marks(device_, total_nodes, builds.size());
@@ -218,12 +217,11 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     for (std::size_t g = 0; g < builds.size(); ++g) {
         const construct::GeometryBuild& b = builds[g];
         const std::size_t n = b.leaf_count;
-        out.roots.push_back(n == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(offset));
         if (n == 0) continue;
         ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), static_cast<cl_uint>(b.levels - 1),
                       static_cast<cl_uint>(b.branching == 4 ? 2 : 1), keys, flags);
         scheduler.launch(measure::Stage::bvh, -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
-        build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, *out.nodes, offset, scratch, root_boxes, g, flags,
+        build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, binary, offset, scratch, root_boxes, g, flags,
                    marks);
         offset += nodes_for(n);
     }
@@ -231,10 +229,11 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     const std::vector<cl_uint> counts = marks.counts.read();
     std::size_t wide_count = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {
-        out.wide_roots.push_back(builds[g].leaf_count == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(wide_count));
+        out.roots.push_back(builds[g].leaf_count == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(wide_count));
         wide_count += counts[g];
     }
-    out.wide_nodes = widen(scheduler, measure::Stage::bvh, *out.nodes, marks, wide_count);
+    out.nodes = widen(scheduler, measure::Stage::bvh, binary, marks, wide_count);
+    out.node_count = wide_count;
     const cl_uint flag = flags.read()[0];
     if (flag & kFlagTooLarge)
         throw SettingError("leaf_size", "a brick coordinate needs more than the 21 bits per axis of the BVH's Morton "
@@ -242,23 +241,23 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
     const std::vector<SdfBounds> boxes = root_boxes.read();
     out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
-    return keys.bytes() + scratch.bytes() + marks.even.bytes() + wide_count * sizeof(cl_uint);
+    return binary.bytes() + keys.bytes() + scratch.bytes() + marks.even.bytes() + wide_count * sizeof(cl_uint);
 }
 
 void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
                                  ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot, ocl::Buffer<cl_uint>& flags) {
     out.instances = std::make_unique<ocl::Buffer<SdfInstance>>(ocl::pooled, device_, std::span<const SdfInstance>(top.instances));
     out.instance_objects = top.objects;
-    out.tlas = std::make_unique<ocl::Buffer<SdfBvhNode>>(ocl::pooled, device_, nodes_for(top.instances.size()));
-    out.tlas_node_count = out.tlas->size();
+    ocl::Buffer<SdfBvhNode> binary(ocl::pooled, device_, nodes_for(top.instances.size()));
     ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, std::span<const cl_ulong>(top.keys));
     ocl::Buffer<SdfBounds> boxes(ocl::pooled, device_, std::span<const SdfBounds>(top.boxes));
     TreeScratch scratch(device_, top.instances.size());
-    WideMarks marks(device_, out.tlas->size(), slot + 1);  // counted under the tree's slot, as its root box
-    build_tree(scheduler, measure::Stage::tlas, keys, boxes, top.instances.size(), *out.tlas, 0, scratch, root_boxes,
+    WideMarks marks(device_, binary.size(), slot + 1);  // counted under the tree's slot, as its root box
+    build_tree(scheduler, measure::Stage::tlas, keys, boxes, top.instances.size(), binary, 0, scratch, root_boxes,
                slot, flags, marks);
     if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
-    out.wide_tlas = widen(scheduler, measure::Stage::tlas, *out.tlas, marks, marks.counts.read()[slot]);
+    out.tlas_node_count = marks.counts.read()[slot];
+    out.tlas = widen(scheduler, measure::Stage::tlas, binary, marks, out.tlas_node_count);
 }
 
 SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
@@ -275,8 +274,8 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     build_top_level(order_instances(scene, out, builds.size()), scheduler, out, root_boxes, builds.size(), flags);
     scheduler.resolve();
     out.device_ms = scheduler.total_ms(first_launch);
-    out.memory["bvh nodes"] = out.nodes->bytes() + out.wide_nodes->bytes();
-    out.memory["tlas nodes"] = out.tlas->bytes() + out.wide_tlas->bytes() + out.instances->bytes();
+    out.memory["bvh nodes"] = out.nodes->bytes();
+    out.memory["tlas nodes"] = out.tlas->bytes() + out.instances->bytes();
     out.memory["bvh scratch"] = scratch_bytes;
     out.host_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
     return out;
@@ -290,13 +289,7 @@ struct Slot {
     std::int32_t child;
 };
 
-std::vector<Slot> slots_of(const SdfBvhNode& n, std::size_t leaves) {
-    std::vector<Slot> out{{{{n.lo0[0], n.lo0[1], n.lo0[2]}, {n.hi0[0], n.hi0[1], n.hi0[2]}}, n.child[0]}};
-    if (leaves > 1) out.push_back({{{n.lo1[0], n.lo1[1], n.lo1[2]}, {n.hi1[0], n.hi1[1], n.hi1[2]}}, n.child[1]});
-    return out;
-}
-
-std::vector<Slot> slots_of(const SdfBvhWideNode& n, std::size_t) {
+std::vector<Slot> slots_of(const SdfBvhWideNode& n) {
     std::vector<Slot> out;
     for (int k = 0; k < 4; ++k)
         if (n.child[k] != SDF_WIDE_EMPTY)
@@ -310,8 +303,9 @@ bool contains(const SdfBounds& outer, const SdfBounds& inner) {
     return true;
 }
 
-template <class Node>
-std::string check_nodes(std::span<const Node> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
+}  // namespace
+
+std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
     const std::size_t n = leaf_boxes.size();
     if (n == 0) return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
     if (root >= nodes.size()) return fmt::format("root {} is outside the {} nodes", root, nodes.size());
@@ -323,7 +317,7 @@ std::string check_nodes(std::span<const Node> nodes, std::uint32_t root, std::sp
         stack.pop_back();
         if (i >= nodes.size()) return fmt::format("node index {} is outside the {} nodes", i, nodes.size());
         if (++visited > nodes.size()) return "a node is reached twice (the tree has a cycle or shared subtree)";
-        for (const Slot& slot : slots_of(nodes[i], n)) {
+        for (const Slot& slot : slots_of(nodes[i])) {
             if (slot.child < 0) {
                 const auto leaf = static_cast<std::size_t>(~slot.child);
                 if (leaf >= n) return fmt::format("node {} names leaf {} of {}", i, leaf, n);
@@ -335,7 +329,7 @@ std::string check_nodes(std::span<const Node> nodes, std::uint32_t root, std::sp
             }
             const auto ci = static_cast<std::uint32_t>(slot.child);
             if (ci >= nodes.size()) return fmt::format("node {} names node {} of {}", i, ci, nodes.size());
-            for (const Slot& inner : slots_of(nodes[ci], n))
+            for (const Slot& inner : slots_of(nodes[ci]))
                 if (!contains(slot.box, inner.box))
                     return fmt::format("the box of node {} in node {} does not contain its children's boxes", ci, i);
             stack.push_back(ci);
@@ -344,18 +338,6 @@ std::string check_nodes(std::span<const Node> nodes, std::uint32_t root, std::sp
     for (std::size_t l = 0; l < n; ++l)
         if (!seen[l]) return fmt::format("leaf {} is not reachable", l);
     return "";
-}
-
-}  // namespace
-
-std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
-    if (leaf_boxes.size() == 1 && root < nodes.size() && nodes[root].child[0] != nodes[root].child[1])
-        return "a one-leaf tree must repeat its leaf";
-    return check_nodes(nodes, root, leaf_boxes);
-}
-
-std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
-    return check_nodes(nodes, root, leaf_boxes);
 }
 
 }  // namespace sdfbrick::bvh

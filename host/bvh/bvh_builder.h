@@ -2,6 +2,7 @@
 // built and refit on the device directly from construction's Morton order (kernels/bvh_build.cl), and
 // a top level over the object instances, so instances of one geometry share its bricks and tree.
 // The top level's few keys are computed and sorted on the host; its tree is built by the same kernels.
+// The tracer walks the 4-wide trees made from these binary ones, which the build then lets go.
 #pragma once
 
 #include <cstddef>
@@ -22,16 +23,15 @@
 namespace sdfbrick::bvh {
 
 struct SceneBvh {
-    std::unique_ptr<ocl::Buffer<SdfBvhNode>> nodes;       // the bottom levels of all geometries, one array
-    std::unique_ptr<ocl::Buffer<SdfBvhNode>> tlas;        // the top level; leaf i = instances[i]
+    // The 4-wide trees the tracer walks (kernels/bvh_build.cl): made from binary LBVHs, which are
+    // scratch of the build; one wide node per binary node at even depth.
+    std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> nodes;   // the bottom levels of all geometries, one array
+    std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> tlas;    // the top level (root 0); leaf i = instances[i]
     std::unique_ptr<ocl::Buffer<SdfInstance>> instances;  // in the top level's leaf order
-    // The 4-wide trees the tracer walks, one wide node per binary node at even depth (kernels/bvh_build.cl).
-    std::unique_ptr<ocl::Buffer<SdfBvhWideNode>> wide_nodes, wide_tlas;
     std::vector<std::uint32_t> roots;        // per geometry: its root in nodes, SDF_NO_NODE without bricks
-    std::vector<std::uint32_t> wide_roots;   // per geometry: its root in wide_nodes (the top level's is 0)
     std::vector<SdfBounds> geometry_boxes;   // per geometry: the box of its bricks (geometry frame)
     std::vector<std::size_t> instance_objects;  // instances[i] is scene object instance_objects[i]
-    std::uint64_t node_count = 0, tlas_node_count = 0;
+    std::uint64_t node_count = 0, tlas_node_count = 0;  // wide nodes
     double device_ms = 0.0;  // the BVH's launches
     double host_ms = 0.0;
     std::map<std::string, std::uint64_t> memory;
@@ -72,11 +72,10 @@ private:
     std::unique_ptr<Programs> programs_;
 };
 
-// Checks a tree read back to the host: every leaf 0 .. leaf_boxes.size() - 1 is reached exactly once
-// from root, a leaf's box in its parent equals leaf_boxes[leaf], and every internal child's box
-// contains both of its children's boxes. Returns "" when it holds, else the first violation.
-std::string check_tree(std::span<const SdfBvhNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes);
-// The same for a wide tree (unused slots are SDF_WIDE_EMPTY; every other slot is checked like a child).
+// Checks a wide tree read back to the host: every leaf 0 .. leaf_boxes.size() - 1 is reached exactly
+// once from root, a leaf's box in its node equals leaf_boxes[leaf], and every internal slot's box
+// contains the boxes of the node's slots it names (unused slots are SDF_WIDE_EMPTY). Returns "" when
+// it holds, else the first violation.
 std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes);
 
 }  // namespace sdfbrick::bvh

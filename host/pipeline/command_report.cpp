@@ -181,16 +181,11 @@ std::string to_text(const DeviceRenderReport& d, bool kernel_table) {
 
 TreeCheck check_trees(const render::SceneBricks& bricks) {
     TreeCheck c;
-    const std::vector<SdfBvhNode> nodes = bricks.bvh.nodes->read();
-    const std::vector<SdfBvhWideNode> wide = bricks.bvh.wide_nodes->read();
-    c.digest = Fnv1a64().add_values(std::span<const SdfBvhNode>(nodes)).hex();
+    const std::vector<SdfBvhWideNode> nodes = bricks.bvh.nodes->read();
+    c.digest = Fnv1a64().add_values(std::span<const SdfBvhWideNode>(nodes)).hex();
     for (std::size_t g = 0; g < bricks.builds.size(); ++g) {
         const std::vector<SdfBounds> boxes = bricks.builds[g].aabbs->read();
-        std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
-        if (p.empty()) {
-            p = bvh::check_tree(wide, bricks.bvh.wide_roots[g], boxes);
-            if (!p.empty()) p = "wide tree: " + p;
-        }
+        const std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
         if (!p.empty()) c.problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);
     }
     return c;

@@ -52,7 +52,7 @@ void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& out,
         e.voxel = static_cast<float>(settings.voxel());
         e.inv_voxel = static_cast<float>(1.0 / settings.voxel());
         e.dequant = layout.dequantise_scale(b.band);
-        e.root = out.bvh.wide_roots[g];
+        e.root = out.bvh.roots[g];
         e.brick_offset = static_cast<sdf_u32>(first);
         table.push_back(e);
         if (out.combined_pool) out.combined_pool->copy_from(*b.pool, first * brick_bytes);
@@ -197,14 +197,14 @@ TraceResult BrickTracer::render(const Scene& scene, const SceneBricks& bricks, c
     const std::array<std::size_t, 3> offset{0, static_cast<std::size_t>(rows.first), 0};
     const std::array<std::size_t, 3> local{gx, gy, 1};
     const std::size_t first_launch = scheduler.size();
-    ocl::set_args(k.trace.get(), f.camera, *bricks.bvh.wide_tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.wide_nodes,
+    ocl::set_args(k.trace.get(), f.camera, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries, *bricks.bvh.nodes,
                   bricks.pool(), bricks.shifts(), f.hit, f.aux);
     scheduler.launch(measure::Stage::trace, -1, k.trace.get(), global, local, 2, offset);
     if (settings.shade) {
         const SdfShading shading = make_shading(scene, bricks, settings);
         f.shading.write(std::span<const SdfShading>(&shading, 1));
-        ocl::set_args(k.shade.get(), f.camera, *bricks.bvh.wide_tlas, *bricks.bvh.instances, *bricks.geometries,
-                      *bricks.bvh.wide_nodes, bricks.pool(), bricks.shifts(), f.shading, f.hit, f.colour);
+        ocl::set_args(k.shade.get(), f.camera, *bricks.bvh.tlas, *bricks.bvh.instances, *bricks.geometries,
+                      *bricks.bvh.nodes, bricks.pool(), bricks.shifts(), f.shading, f.hit, f.colour);
         scheduler.launch(measure::Stage::shade, -1, k.shade.get(), global, local, 2, offset);
     }
     TraceResult out;

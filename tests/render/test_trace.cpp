@@ -358,7 +358,7 @@ TEST(RenderTrace, InstancesShareBricksAndMatchBakedGeometry) {
     const Rendered r = render_scene(inst, s, t);
     EXPECT_EQ(r.bricks.builds.size(), 1u);
     EXPECT_EQ(r.bricks.bvh.instance_objects.size(), 2u);
-    const std::vector<SdfBvhNode> tlas = r.bricks.bvh.tlas->read();
+    const std::vector<SdfBvhWideNode> tlas = r.bricks.bvh.tlas->read();
     EXPECT_EQ(tlas.size(), 1u);
     const RenderBuffer ref = reference::trace_host(inst, t.width, t.height);
     const reference::AccuracyMetrics m = reference::compare(r.buffer, ref, r.bricks.voxel_world);
