@@ -9,8 +9,8 @@
 #include <fmt/format.h>
 
 #include "cl/launch.h"
-#include "construct/scan.h"
 #include "cl/program.h"
+#include "construct/scan.h"
 #include "core/errors.h"
 #include "scene/to_device.h"
 
@@ -225,6 +225,13 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
                    marks);
         offset += nodes_for(n);
     }
+    const cl_uint flag = flags.read()[0];
+    if (flag & kFlagTooLarge)
+        throw SettingError("leaf_size", "a brick coordinate needs more than the 21 bits per axis of the BVH's Morton "
+                                        "keys: use a larger leaf_size or fewer levels");
+    if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
+    const std::vector<SdfBounds> boxes = root_boxes.read();
+    out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
     // Every tree's root is its first node, at even depth: its wide index is the marks of the trees before.
     const std::vector<cl_uint> counts = marks.counts.read();
     std::size_t wide_count = 0;
@@ -234,14 +241,8 @@ std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::Geometr
     }
     out.nodes = widen(scheduler, measure::Stage::bvh, binary, marks, wide_count);
     out.node_count = wide_count;
-    const cl_uint flag = flags.read()[0];
-    if (flag & kFlagTooLarge)
-        throw SettingError("leaf_size", "a brick coordinate needs more than the 21 bits per axis of the BVH's Morton "
-                                        "keys: use a larger leaf_size or fewer levels");
-    if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
-    const std::vector<SdfBounds> boxes = root_boxes.read();
-    out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
-    return binary.bytes() + keys.bytes() + scratch.bytes() + marks.even.bytes() + wide_count * sizeof(cl_uint);
+    // the binary trees, and the marks and their numbers (the same size)
+    return binary.bytes() + keys.bytes() + scratch.bytes() + 2 * marks.even.bytes();
 }
 
 void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
