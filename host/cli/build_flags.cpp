@@ -105,6 +105,9 @@ void TraceFlags::add_to(CLI::App* cmd) {
     add_setting_flags(cmd, {{"width", "--width"}, {"height", "--height"}, {"group_x", "--group-x"}, {"group_y", "--group-y"}});
     cmd->add_option("--shadow-rays", trace.shadow_rays, "shaded mode: shadow rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
     cmd->add_option("--ao-rays", trace.ao_rays, "shaded mode: ambient occlusion rays per pixel")->check(CLI::Range(0, 64))->capture_default_str();
+    registers_ = cmd->add_option("--max-registers", trace.max_registers, "registers per work-item the trace and shade "
+                                 "kernels may use, NVIDIA only (default: tuned for the device, else 0: the compiler's choice)")
+                     ->check(CLI::Range(0, 255));
 }
 
 render::TraceSettings TraceFlags::resolve() const {

@@ -37,7 +37,7 @@ private:
 };
 
 // The trace options that `render` and `play` share: --width --height --mode --method --normals
-// --group-x --group-y --shadow-rays --ao-rays.
+// --group-x --group-y --shadow-rays --ao-rays --max-registers.
 struct TraceFlags {
     render::TraceSettings trace;
     std::string mode = "normals";
@@ -49,10 +49,12 @@ struct TraceFlags {
     render::TraceSettings resolve() const;
     // Whether --group-x or --group-y was given (add_to must have run).
     bool group_given() const { return group_x_->count() > 0 || group_y_->count() > 0; }
+    bool registers_given() const { return registers_->count() > 0; }
 
 private:
     CLI::Option* group_x_ = nullptr;
     CLI::Option* group_y_ = nullptr;
+    CLI::Option* registers_ = nullptr;
 };
 
 // Repeats and what to report about them: --repeat, --warmup, --kernel-stats.

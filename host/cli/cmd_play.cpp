@@ -206,6 +206,7 @@ void run_play(PlayOptions o, const GlobalOptions& global) {
     const TuningChoice tuning = open_tuning(global);
     tune::Given given = o.flags.given();
     given.trace_group = o.tracing.group_given();
+    given.trace_registers = o.tracing.registers_given();
 
     std::optional<FrameWriter> writer;
     if (pattern) {

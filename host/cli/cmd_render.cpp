@@ -89,6 +89,7 @@ void run_render(RenderOptions o, const GlobalOptions& global) {
     const TuningChoice tuning = open_tuning(global);
     tune::Given given = o.flags.given();
     given.trace_group = o.tracing.group_given();
+    given.trace_registers = o.tracing.registers_given();
     pipeline::Job job;
     job.work = pipeline::Work::trace;
     job.bricks = !o.reference;

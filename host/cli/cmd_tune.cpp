@@ -30,6 +30,7 @@ struct TuneOptions {
     BuildFlags flags;
     std::vector<std::string> kernels{"evaluate", "trace"};
     tune::TuneSpec spec;  // strategy, budget, seed, warm-up, repeats, trace image
+    std::string method = "sphere";
     std::optional<std::string> json;
     std::optional<std::string> t4;  // the run as T4 results
 };
@@ -69,6 +70,10 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     const std::vector<const tune::TunedKernel*> kernels = selected_kernels(o);
     if (o.spec.budget < 1) throw InputError("--budget must be at least 1");
     validate_image_size(o.spec.width, o.spec.height);
+    tune::TuneSpec spec = o.spec;
+    const auto method = render::method_from_string(o.method);
+    if (!method) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), o.method));
+    spec.method = *method;
     const construct::BuildSettings base = o.flags.resolve();
     const Scene file_scene = load_scene_warned(o.file);
     const Scene scene = scene_at(file_scene, file_scene.time);
@@ -90,7 +95,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     for (ocl::Device& device : devices) {
         pipeline::Executor executor(device);
         device_reports.push_back(
-            tune::tune_device(executor.lane(0), scene, o.file, kernels, base, o.spec, db, now_iso(), say, print_measured));
+            tune::tune_device(executor.lane(0), scene, o.file, kernels, base, spec, db, now_iso(), say, print_measured));
     }
     db.save(*choice.path);
     say(fmt::format("tuning database: {}\n", choice.path->string()));
@@ -168,6 +173,7 @@ void add_tune_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--warmup", o->spec.warmup, "untimed runs per configuration first")->check(CLI::Range(0, 100))->capture_default_str();
     cmd->add_option("--width", o->spec.width, "trace image width")->capture_default_str();
     cmd->add_option("--height", o->spec.height, "trace image height")->capture_default_str();
+    cmd->add_option("--method", o->method, "in-brick search of the traced image: sphere, analytic or hybrid")->capture_default_str();
     cmd->add_option("--seed", o->spec.seed, "seed of the random and anneal strategies")->capture_default_str();
     cmd->add_option("--json", o->json, "write a JSON report (every configuration measured) here");
     cmd->add_option("--t4", o->t4, "write every configuration measured as T4 auto-tuning results (docs/tuning.md) here");

@@ -65,6 +65,10 @@ struct TraceSettings {
     int group_y = 8;
     int shadow_rays = 4;
     int ao_rays = 8;
+    // Registers per work-item the trace and shade kernels may use, 0 for the compiler's choice. Only
+    // NVIDIA's compiler takes a cap (cl_nv_compiler_options); other devices ignore it. A cap trades
+    // spills for occupancy; it changes no result.
+    int max_registers = 0;
 };
 
 // A band of image rows [first, end); end 0 means every row.

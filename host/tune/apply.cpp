@@ -15,6 +15,7 @@ std::set<std::string> given_params(const Given& g) {
     if (g.chunk) s.insert("chunk");
     if (g.group) s.insert("group");
     if (g.trace_group) s.insert({"group_x", "group_y"});
+    if (g.trace_registers) s.insert("registers");
     return s;
 }
 

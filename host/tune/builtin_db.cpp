@@ -19,7 +19,7 @@ struct Measured {
     const char* vendor;
     const char* platform;
     const char* kernel;
-    using Params = std::array<std::pair<const char*, int>, 2>;
+    using Params = std::array<std::pair<const char*, int>, 3>;  // unused pairs have no name
     Params params;
     double time_ms;
     Params default_params;  // the defaults of the time, measured alongside
@@ -29,6 +29,8 @@ struct Measured {
     int repeat;
     const char* tuned_at;
     const char* measured;  // where, and the files that hold it
+    int space = 30;        // configurations searched (all of them)
+    const char* method = "sphere";  // the traced image's in-brick search (trace_primary)
 };
 
 constexpr const char* kH100 = "NVIDIA H100 80GB HBM3";
@@ -44,6 +46,8 @@ constexpr const char* kH100PoclFiles =
     "H100 machine (16-core Xeon), PoCL 5.0; docs/measurements/tuning-h100.json, h100-tune-pocl.txt";
 constexpr const char* kH200Files =
     "H200 machine, NVIDIA OpenCL; docs/measurements/tuning-h200.json, h200-tune-nvidia.txt";
+constexpr const char* kH200TraceFiles =
+    "H200 machine, NVIDIA OpenCL; docs/measurements/roof/d18.sh, d18.tgz (tuning-hybrid.json, tune-hybrid.txt)";
 constexpr const char* kHereFiles =
     "2-core AMD EPYC development machine, PoCL 3.1; docs/measurements/tuning-pocl-here.json, pocl-here-tune.txt";
 
@@ -63,13 +67,15 @@ constexpr Measured kMeasured[] = {
      45.144151, kTraceDefault, 66.751169, 0.125, 1280, 720, 2, "2026-11-22T07:10:52Z", kH100PoclFiles},
     {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kEvaluateKernel, {{{"chunk", 16}, {"group", 64}}},
      4.1536, kEvaluateDefault, 5.09312, 0.0625, 0, 0, 5, "2026-12-03T16:08:04Z", kH200Files},
-    {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kTraceKernel, {{{"group_x", 8}, {"group_y", 16}}},
-     2.072544, kTraceDefault, 2.1704, 0.0625, 3840, 2160, 5, "2026-12-03T16:08:04Z", kH200Files},
+    {kH200, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kTraceKernel,
+     {{{"group_x", 8}, {"group_y", 16}, {"registers", 64}}}, 3.537216, kTraceDefault, 4.333632, 0.0625, 3840, 2160, 5,
+     "2026-12-04T13:53:24Z", kH200TraceFiles, 90, "hybrid"},
 };
 
 Config to_config(const Measured::Params& p) {
     Config c;
-    for (const auto& [name, value] : p) c[name] = value;
+    for (const auto& [name, value] : p)
+        if (name != nullptr) c[name] = value;
     return c;
 }
 
@@ -83,13 +89,16 @@ Entry to_entry(const Measured& m) {
                 {"scene", "scenes/drops.json"},
                 {"brick_size", m.brick_size},
                 {"strategy", "full"},
-                {"evaluated", 30},
-                {"space", 30},
+                {"evaluated", m.space},
+                {"space", m.space},
                 {"repeat", m.repeat},
                 {"tuned_at", m.tuned_at},
                 {"platform", m.platform},
                 {"measured", m.measured}};
-    if (m.width > 0) e.record["image"] = {m.width, m.height};
+    if (m.width > 0) {
+        e.record["image"] = {m.width, m.height};
+        e.record["method"] = m.method;
+    }
     return e;
 }
 

@@ -23,14 +23,18 @@ namespace sdfbrick::tune {
 
 // The kernels' names in the database and in reports.
 inline constexpr const char* kEvaluateKernel = "brick_evaluate";  // chunk, group
-inline constexpr const char* kTraceKernel = "trace_primary";      // group_x, group_y
+inline constexpr const char* kTraceKernel = "trace_primary";      // group_x, group_y, registers
 
-// One parameter: its candidates are the powers of two lo..hi. With device_capped, the candidates stop at
-// the device's maximum work-group size (a work-group dimension no device-free constraint can bound).
+// One parameter: its candidates are the powers of two lo..hi, or the listed values. With device_capped,
+// the candidates stop at the device's maximum work-group size (a work-group dimension no device-free
+// constraint can bound). With an extension, a device without it has one candidate, the first value
+// (the setting it ignores), and a configuration read from a file without the parameter takes that value.
 struct TunedParam {
     std::string name;
     int lo = 1, hi = 1;
     bool device_capped = false;
+    std::vector<int> values;  // instead of lo..hi when not empty
+    std::string extension;    // OpenCL extension the setting needs, "" for none
     std::vector<int> candidates(const ocl::DeviceInfo* device) const;  // device null: all of them
 };
 
@@ -62,7 +66,9 @@ struct TunedKernel {
 
     // The search space; with a device, capped to what it allows.
     Space space(const ocl::DeviceInfo* device = nullptr) const;
-    bool in_space(const Config& c) const;  // every parameter present and among its candidates
+    bool in_space(const Config& c) const;  // every parameter present (or completed) and among its candidates
+    // c with each missing parameter that needs an extension set to its first value (TunedParam).
+    Config completed(Config c) const;
     // The built-in default: the values of BuildSettings{} and TraceSettings{}.
     Config default_config() const;
     // "" when c gives every parameter and meets the constraints (with a device, also that device's

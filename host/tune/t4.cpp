@@ -44,16 +44,20 @@ std::optional<double> result_ms(const nlohmann::json& r) {
 
 // The configuration as the kernel's parameters, or nullopt when it names others or non-integers.
 std::optional<Config> kernel_config(const nlohmann::json& c, const TunedKernel& kernel) {
-    if (!c.is_object() || c.size() != kernel.params.size()) return std::nullopt;
+    if (!c.is_object()) return std::nullopt;
     Config out;
+    std::size_t read = 0;
     for (const TunedParam& p : kernel.params) {
         const auto it = c.find(p.name);
+        if (it == c.end() && !p.extension.empty()) continue;  // written before the parameter existed
         if (it == c.end() || !it->is_number_integer()) return std::nullopt;
+        ++read;
         const auto v = it->get<std::int64_t>();
         if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) return std::nullopt;
         out[p.name] = static_cast<int>(v);
     }
-    return out;
+    if (read != c.size()) return std::nullopt;  // a parameter the kernel does not have
+    return kernel.completed(out);
 }
 
 }  // namespace

@@ -25,8 +25,8 @@ inline constexpr const char* kT4SchemaVersion = "1.0.0";
 nlohmann::json t4_results(const nlohmann::json& devices, const std::string& timestamp);
 
 // The best result of `doc` for `kernel`: valid ("correct"), with a time, and a configuration of
-// exactly the kernel's parameters (integers) that the device can run; a result that names its kernel
-// must name this one. Throws InputError (naming `where` and the JSON path) for a document that is not
+// exactly the kernel's parameters (integers; one that needs an extension may be missing: TunedParam)
+// that the device can run; a result that names its kernel must name this one. Throws InputError (naming `where` and the JSON path) for a document that is not
 // T4 results; std::nullopt when no result fits.
 struct T4Best {
     Config params;

@@ -24,6 +24,7 @@ public:
         : kernel_(kernel), runner_(runner), scene_(scene), base_(base), spec_(spec) {
         trace_.width = spec.width;
         trace_.height = spec.height;
+        trace_.method = spec.method;
         if (kernel.work != pipeline::Work::trace) return;
         pipeline::RunSpec build;
         build.work = pipeline::Work::bvh;
@@ -99,7 +100,10 @@ Entry make_entry(const TuneResult& r, const ocl::DeviceInfo& device, const std::
                           {"repeat", r.spec.repeat},
                           {"tuned_at", tuned_at},
                           {"platform", device.platform_name}};
-    if (r.kernel->work == pipeline::Work::trace) rec["image"] = {r.spec.width, r.spec.height};
+    if (r.kernel->work == pipeline::Work::trace) {
+        rec["image"] = {r.spec.width, r.spec.height};
+        rec["method"] = render::to_string(r.spec.method);
+    }
     return {device.name, device.driver_version, device.vendor, r.kernel->name, r.result.best, rec};
 }
 
@@ -144,7 +148,8 @@ nlohmann::json tune_device(pipeline::Lane& runner, const Scene& scene, const std
     for (const TunedKernel* k : kernels) {
         if (say) {
             if (k->work == pipeline::Work::trace)
-                say(fmt::format("  {} ({}x{}, {}):\n", k->name, spec.width, spec.height, k->objective_text));
+                say(fmt::format("  {} ({}x{} {}, {}):\n", k->name, spec.width, spec.height, render::to_string(spec.method),
+                                k->objective_text));
             else
                 say(fmt::format("  {} ({}):\n", k->name, k->objective_text));
         }

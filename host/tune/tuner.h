@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/run.h"
+#include "render/methods.h"
 #include "scene/scene.h"
 #include "tune/kernels.h"
 #include "tune/search.h"
@@ -26,6 +27,7 @@ struct TuneSpec {
     std::uint64_t seed = 1;
     int warmup = 1, repeat = 3;  // per configuration
     int width = 1280, height = 720;  // the traced image (Work::trace kernels)
+    render::Method method = render::Method::sphere;  // its in-brick search
 };
 
 struct TuneResult {

@@ -138,11 +138,11 @@ TEST(TuneTuning, BuiltinLayerIsFoundByDeviceNameThenVendor) {
               (tune::Config{{"group_x", 4}, {"group_y", 8}}));
 
     EXPECT_EQ(db.find("NVIDIA H200", "580.159.04", kNvidia, tune::kTraceKernel).params,
-              (tune::Config{{"group_x", 8}, {"group_y", 16}}));
+              (tune::Config{{"group_x", 8}, {"group_y", 16}, {"registers", 64}}));
 
     const tune::Lookup other = db.find("NVIDIA Some Other GPU", "1.0", kNvidia, tune::kTraceKernel);
     EXPECT_EQ(other.source, tune::Source::builtin_vendor) << "the vendor's most recent entry, the H200's";
-    EXPECT_EQ(other.params, (tune::Config{{"group_x", 8}, {"group_y", 16}}));
+    EXPECT_EQ(other.params, (tune::Config{{"group_x", 8}, {"group_y", 16}, {"registers", 64}}));
     EXPECT_EQ(tune::to_string(other.source), "builtin vendor");
     EXPECT_EQ(tune::layer_of(other.source), "builtin");
 
@@ -218,15 +218,16 @@ TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
     EXPECT_EQ(tune::find_kernel(tune::kTraceKernel), &tr);
     EXPECT_EQ(tune::find_kernel("shade"), nullptr);
     EXPECT_EQ(ev.space().size(), 30u);  // chunk 16..256 x group 32..1024
-    EXPECT_EQ(tr.space().size(), 30u);  // group_x 4..64 x group_y 1..32
+    EXPECT_EQ(tr.space().size(), 90u);  // group_x 4..64 x group_y 1..32 x registers 0, 64, 96
     EXPECT_EQ(ev.default_config(), (tune::Config{{"chunk", 64}, {"group", 128}}));
-    EXPECT_EQ(tr.default_config(), (tune::Config{{"group_x", 16}, {"group_y", 8}}));
+    EXPECT_EQ(tr.default_config(), (tune::Config{{"group_x", 16}, {"group_y", 8}, {"registers", 0}}));
     EXPECT_EQ(ev.objective, (std::vector<measure::Stage>{measure::Stage::count, measure::Stage::evaluate}));
     EXPECT_EQ(tr.objective, std::vector<measure::Stage>{measure::Stage::trace});
 
     ocl::DeviceInfo d = fake_device("GPU A", "Acme");  // 256 work-items
     EXPECT_EQ(ev.space(&d).size(), 20u) << "the group stops at the device's work-group size";
-    EXPECT_EQ(tr.space(&d).size(), 30u) << "shapes too large stay in the space, refused";
+    EXPECT_EQ(tr.space(&d).size(), 30u) << "shapes too large stay in the space, refused; no register cap without "
+                                            "cl_nv_compiler_options";
     EXPECT_NE(tr.refuses({{"group_x", 32}, {"group_y", 16}}, &d), "");
     EXPECT_EQ(tr.refuses({{"group_x", 32}, {"group_y", 16}}), "") << "fits some device";
     EXPECT_NE(tr.refuses({{"group_x", 4}, {"group_y", 2}}), "") << "fewer than 16 work-items";
@@ -246,8 +247,44 @@ TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
 
     render::TraceSettings t;
     tr.apply({{"group_x", 8}, {"group_y", 4}}, s, t);
-    EXPECT_EQ(tr.read(s, t), (tune::Config{{"group_x", 8}, {"group_y", 4}}));
+    EXPECT_EQ(tr.read(s, t), (tune::Config{{"group_x", 8}, {"group_y", 4}, {"registers", 0}}));
     EXPECT_EQ(tr.describe(tr.read(s, t)), "8x4");
+    EXPECT_TRUE(tr.in_space({{"group_x", 8}, {"group_y", 4}})) << "a configuration written before the register cap";
+    EXPECT_FALSE(tr.in_space({{"group_x", 8}, {"group_y", 4}, {"registers", 72}}));
+
+    d.extensions = {"cl_khr_fp64", "cl_nv_compiler_options"};
+    EXPECT_EQ(tr.space(&d).size(), 90u) << "the register cap is searched where the compiler takes it";
+    tr.apply({{"group_x", 8}, {"group_y", 16}, {"registers", 64}}, s, t);
+    EXPECT_EQ(t.max_registers, 64);
+    EXPECT_EQ(tr.describe(tr.read(s, t)), "8x16 registers 64");
+}
+
+// A database's register cap is applied unless --max-registers was given; an entry written before the
+// cap existed leaves it at 0 (the compiler's choice).
+TEST(TuneTuning, ApplyTakesTheRegisterCapUnlessGiven) {
+    tune::TuningDb db(tune::Layers::without_builtin);
+    db.put({"GPU N", "1.0", "Acme", tune::kTraceKernel, {{"group_x", 8}, {"group_y", 16}, {"registers", 64}}, {}});
+    db.put({"GPU O", "1.0", "Acme", tune::kTraceKernel, {{"group_x", 8}, {"group_y", 4}}, {}});
+    ocl::DeviceInfo gpu = fake_device("GPU N", "Acme");
+    gpu.extensions = {"cl_nv_compiler_options"};
+    construct::BuildSettings s;
+    render::TraceSettings t;
+    tune::apply_tuning(&db, gpu, {}, s, &t);
+    EXPECT_EQ(t.max_registers, 64);
+    EXPECT_EQ(t.group_y, 16);
+
+    t = {};
+    t.max_registers = 96;
+    tune::Given given;
+    given.trace_registers = true;
+    tune::apply_tuning(&db, gpu, given, s, &t);
+    EXPECT_EQ(t.max_registers, 96) << "given on the command line";
+    EXPECT_EQ(t.group_y, 16);
+
+    t = {};
+    tune::apply_tuning(&db, fake_device("GPU O", "Acme"), {}, s, &t);
+    EXPECT_EQ(t.max_registers, 0);
+    EXPECT_EQ(t.group_y, 4);
 }
 
 // The tuner measures through the run loop on the test device: both kernels, every configuration
