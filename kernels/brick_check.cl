@@ -1,11 +1,12 @@
 /* brick_check.cl: stage "check" (adaptive builds). One work-group per brick of a level whose bricks
  * may be leaves. The brick's S^3 samples are brick_evaluate's (launched on these bricks first, into
  * `pool`), compared with the band-limited field at the check points: every point of the half-voxel
- * lattice over the samples that is not a sample itself (cell centres, face and edge midpoints), where
- * the trilinear interpolation the tracer uses is the mean of 2, 4 or 8 samples. Both are compared
- * clamped to +-window (one voxel of this level, at least the finest band: every surface point has
- * check points on both sides inside it, while a kink of the field further out, the middle of a thick
- * slab, must not force a refinement). A check point fails when |interpolated - field| > tolerance
+ * lattice over the samples that is not a sample itself (cell centres, face and edge midpoints) and
+ * lies in the brick's cell (its boundary included: the apron's points lie in the neighbours' cells,
+ * where the tracer reads the neighbours), where the trilinear interpolation the tracer uses is the
+ * mean of 2, 4 or 8 samples. Both are compared clamped to +-window (one voxel of this level, at least
+ * the finest band: every surface point has check points on both sides inside it, while a kink of the
+ * field further out, the middle of a thick slab, must not force a refinement). A check point fails when |interpolated - field| > tolerance
  * there, or when the two differ in sign and the field is at least tolerance / 2 deep (a thin feature
  * that the samples step over). Check points half a voxel apart cannot see a feature narrower than
  * that, so a brick whose list holds an edit thinner than its voxel (sdf_feature_size) whose surface
@@ -26,6 +27,11 @@
 #define INTERIOR (SAMPLES - 2 * APRON)
 #define CELLS (SAMPLES - 1)
 #define CLASS_POINTS (CELLS * SAMPLES * SAMPLES) /* points of the largest class */
+/* The brick's cell, where the tracer searches it, is s in [APRON - 0.5, SAMPLES - APRON - 0.5] in
+ * sample space: half-voxel lattice coordinates h = 2 s from INSIDE_LO to INSIDE_HI. Points beyond lie
+ * in the neighbours' cells, which check their own. */
+#define INSIDE_LO (2 * APRON - 1)
+#define INSIDE_HI (2 * (SAMPLES - APRON) - 1)
 /* The first class: on CPU lanes the even cell centres come first (class_odd); with one lane (GPUs),
  * where a class is a few latency-bound phases of a work-group, all cell centres form one class (on
  * the H200 the extra class made the check 4-8% slower: docs/measurements/roof/d10). */
@@ -306,7 +312,8 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             sdf_index hx, hy, hz;
             class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
             const sdf_index even = ((hx | hy | hz) & 2) == 0; /* a cell centre of a cell with even coordinates */
-            const sdf_index outside = hx > 2 * CELLS || hy > 2 * CELLS || hz > 2 * CELLS || /* no point */
+            const sdf_index outside = hx < INSIDE_LO || hy < INSIDE_LO || hz < INSIDE_LO || hx > INSIDE_HI ||
+                                      hy > INSIDE_HI || hz > INSIDE_HI || /* no point, or outside the cell */
                                       (k == 0u && !even) || (k == 1u && FIRST_CLASS == 0u && even);
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);

@@ -11,7 +11,7 @@
  * parameter t is shared, and a geometry-frame length L corresponds to L * len_scale in t, where
  * len_scale = 1 / |M d|. In a brick, positions are in sample space: s = (p - brick_min) / voxel +
  * APRON - 0.5, so sample (i, j, k) sits at s = (i, j, k) and the trilinear cell c spans [c, c + 1]. The
- * interior of the brick is s in [APRON - 0.5, SAMPLES - APRON + 0.5]; neighbouring bricks compute the
+ * interior of the brick is s in [APRON - 0.5, SAMPLES - APRON - 0.5]; neighbouring bricks compute the
  * samples they share from the same lattice points, so the field is continuous from brick to brick.
  *
  * Hits. The surface is the first t where the trilinear field is <= 0. A ray that enters a brick
