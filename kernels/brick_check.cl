@@ -315,11 +315,12 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             const sdf_index outside = hx < INSIDE_LO || hy < INSIDE_LO || hz < INSIDE_LO || hx > INSIDE_HI ||
                                       hy > INSIDE_HI || hz > INSIDE_HI || /* no point, or outside the cell */
                                       (k == 0u && !even) || (k == 1u && FIRST_CLASS == 0u && even);
+            /* no point, or in a deep cell: skipped (a value with nothing else is not interpolated) */
+            const uint skipped = lane_bits(outside || load_lanes(deep_points + v * SDF_LANES) != 0.0f);
+            if (skipped == (1u << SDF_LANES) - 1u) continue;
             sdf_real deepest;
             const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
             const sdf_index settled = fabs(deepest) - half_step - reach >= far;
-            /* no point, or in a deep cell: skipped */
-            const uint skipped = lane_bits(outside || load_lanes(deep_points + v * SDF_LANES) != 0.0f);
             const uint settle = lane_bits(settled) & ~skipped;
             /* the list's order follows the atomics, but nothing computed depends on it: each point
              * folds its own value, and the error's maximum and `failed` are order-free */
