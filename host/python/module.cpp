@@ -285,7 +285,7 @@ private:
 struct TraceArgs {
     render::TraceSettings trace;
     std::string mode = "normals";
-    bool group_given = false;
+    bool group_given = false, registers_given = false;
 };
 
 TraceArgs take_trace(Kwargs& k) {
@@ -314,6 +314,12 @@ TraceArgs take_trace(Kwargs& k) {
     }
     if (const auto v = k.integer("shadow_rays")) trace.shadow_rays = *v;
     if (const auto v = k.integer("ao_rays")) trace.ao_rays = *v;
+    if (const auto v = k.integer("max_registers")) {
+        trace.max_registers = *v;
+        t.registers_given = true;
+    }
+    if (trace.max_registers < 0 || trace.max_registers > 255)
+        throw SettingError("max_registers", fmt::format("max_registers must lie in 0..255, got {}", trace.max_registers));
     if (!pipeline::is_render_mode(t.mode))
         throw SettingError("mode", fmt::format("mode must be normals, depth, shaded, steps or bricks, got \"{}\"", t.mode));
     if (trace.shadow_rays < 0 || trace.shadow_rays > 64)
@@ -553,6 +559,7 @@ public:
         BuildArgs args = take_build_settings(k);
         k.done();
         args.given.trace_group = t.group_given;
+        args.given.trace_registers = t.registers_given;
         if (fps && dt) throw py::type_error("fps and dt exclude each other");
         if (fps && !(*fps > 0.0)) throw SettingError("fps", fmt::format("fps must be > 0, got {}", *fps));
         if (dt && !(*dt > 0.0)) throw SettingError("dt", fmt::format("dt must be > 0, got {}", *dt));
@@ -600,6 +607,7 @@ public:
         BuildArgs args = take_build_settings(k);
         k.done();
         args.given.trace_group = t.group_given;
+        args.given.trace_registers = t.registers_given;
         if (request.reference && request.mode != "normals" && request.mode != "depth")
             throw InputError("reference renders the normals and depth modes only");
         if (request.reference && request.compare) throw InputError("reference and compare exclude each other");
@@ -817,6 +825,11 @@ public:
         if (spec.warmup < 0 || spec.warmup > 100) throw SettingError("warmup", fmt::format("warmup must lie in 0..100, got {}", spec.warmup));
         if (const auto v = k.integer("width")) spec.width = *v;
         if (const auto v = k.integer("height")) spec.height = *v;
+        if (const auto v = k.string("method")) {
+            const auto m = render::method_from_string(*v);
+            if (!m) throw SettingError("method", fmt::format("method must be {}, got \"{}\"", render::method_names(), *v));
+            spec.method = *m;
+        }
         const construct::BuildSettings base = take_build_settings(k).settings;
         k.done();
         std::vector<const tune::TunedKernel*> kernels;
@@ -1010,7 +1023,7 @@ PYBIND11_MODULE(sdfbrick, m) {
              "`sdfbrick play --json` (frames=, fps= or dt=, start=, work=, digests=, the render and build keywords)")
         .def("render", &Context::render, py::arg("scene"),
              "Builds and traces the scene: the build's keyword arguments and width, height, mode, method, normals, "
-             "compare, reference, group_x, group_y, shadow_rays, ao_rays. Returns a RenderResult.")
+             "compare, reference, group_x, group_y, shadow_rays, ao_rays, max_registers. Returns a RenderResult.")
         .def("sweep", &Context::sweep, py::arg("spec") = py::none(), py::kw_only(), py::arg("as_frame") = false,
              py::arg("cache") = py::none(), py::arg("progress") = py::none(),
              "Runs a sweep: spec is a dict of sweep-file keys (docs/sweep.md), keyword arguments add to it. Returns the "

@@ -1,5 +1,6 @@
 """Context.render: the report of `sdfbrick render --json`, the pictures as NumPy views."""
 import numpy as np
+import pytest
 
 import sdfbrick
 from conftest import SCENES, cli_json, keys
@@ -65,3 +66,12 @@ def test_modes_and_reference(ctx, spheres):
     assert "bricks" not in reference.report
     steps = ctx.render(spheres, brick_size=0.25, width=W, height=H, mode="steps")
     assert steps.report["settings"]["mode"] == "steps"
+
+
+def test_register_cap_is_kept_as_given_and_changes_no_bit(ctx, spheres):
+    plain = ctx.render(spheres, brick_size=0.25, width=W, height=H, method="hybrid")
+    capped = ctx.render(spheres, brick_size=0.25, width=W, height=H, method="hybrid", max_registers=64)
+    assert capped.report["tuning"]["trace_primary"]["params"]["registers"] == 64
+    assert capped.report["digest"] == plain.report["digest"]
+    with pytest.raises(sdfbrick.InputError, match=r"^max_registers: "):
+        ctx.render(spheres, brick_size=0.25, width=W, height=H, max_registers=256)

@@ -40,3 +40,11 @@ def test_tune_refuses_bad_kernels_and_saving_without_a_database(ctx, spheres):
     with sdfbrick.Context(device=DEVICE, tuning=False) as c:
         with pytest.raises(sdfbrick.InputError, match="tuning database"):
             c.tune(spheres, save=True, **SMALL)
+
+
+def test_tune_traces_with_the_method_given(ctx, spheres):
+    report = ctx.tune(spheres, kernels=["trace"], strategy="random", budget=1, repeat=1, warmup=0, brick_size=0.25,
+                      width=32, height=24, method="hybrid")
+    assert report["devices"][0]["trace_primary"]["method"] == "hybrid"
+    with pytest.raises(sdfbrick.InputError, match="^method: "):
+        ctx.tune(spheres, kernels=["trace"], method="cubic", **{k: v for k, v in SMALL.items() if k != "kernels"})
