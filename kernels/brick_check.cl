@@ -13,11 +13,13 @@
  * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
  * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
  * Every edit the cull drops fails that distance test, so culling on and off agree.
- * The points go in eight classes (seven with one lane), cell centres first (class_odd), a class at a
- * time in values of SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose
- * field is known to be beyond the window from a sample (below) are settled at once, and a value with
- * any other point is folded through the brick's list staged in __local chunks as brick_evaluate does,
- * its coordinates computed in lanes; a work-group stops after the first class with a failing point.
+ * The points go in eight classes (seven with one lane), cell centres first (class_odd), and the
+ * classes in phases (phase_end: each class of cell centres, then the six others together), in values
+ * of SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose field is known to
+ * be beyond the window from a sample (below) are settled at once, and the others are listed with
+ * their interpolated values and folded through the brick's list staged in __local chunks as
+ * brick_evaluate does, their coordinates computed in lanes; a work-group stops after the first phase
+ * with a failing point.
  * Writes the brick's worst error (INFINITY when it failed) and whether it passed.
  * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */
 #include "sdf_build.h"
@@ -26,7 +28,6 @@
 #define SAMPLE_COUNT (SAMPLES * SAMPLES * SAMPLES)
 #define INTERIOR (SAMPLES - 2 * APRON)
 #define CELLS (SAMPLES - 1)
-#define CLASS_POINTS (CELLS * SAMPLES * SAMPLES) /* points of the largest class */
 /* The brick's cell, where the tracer searches it, is s in [APRON - 0.5, SAMPLES - APRON - 0.5] in
  * sample space: half-voxel lattice coordinates h = 2 s from INSIDE_LO to INSIDE_HI. Points beyond lie
  * in the neighbours' cells, which check their own. */
@@ -41,6 +42,16 @@
 #define FIRST_CLASS 1u
 #endif
 #define VALUES ((SAMPLE_COUNT + SDF_LANES - 1) / SDF_LANES) /* values of SDF_LANES point numbers of a class */
+/* A phase: the classes checked before the work-group next tests whether the brick failed. The cell
+ * centres (one or two classes) each make a phase, since a failing brick usually fails there; the
+ * six classes of face centres and edge midpoints make one, so that their points are classified and
+ * folded together (fewer barriers, more points a work-item). PHASE_POINTS: the points inside the
+ * cell of the largest phase, the six classes with one or two even axes (IN_ODD odd and IN_EVEN even
+ * coordinates on each axis). A listed point is (class << 10) | point number. */
+#define IN_ODD ((INSIDE_HI - INSIDE_LO) / 2 + 1)
+#define IN_EVEN ((INSIDE_HI - INSIDE_LO) / 2)
+#define PHASE_POINTS (3 * (IN_ODD) * (IN_ODD) * (IN_EVEN) + 3 * (IN_ODD) * (IN_EVEN) * (IN_EVEN))
+inline uint phase_end(uint k) { return k < 2u ? k + 1u : 8u; }
 #define STORED (VALUES * SDF_LANES + SAMPLES * SAMPLES + SAMPLES + 1) /* the corners the last value reads */
 
 /* Lane 0 of a value (sdf_edit.h: every lane is the float result at its point). */
@@ -90,6 +101,13 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
  * take a division by the constant S. */
 inline int3 class_odd(uint k) {
     return k < 2u ? (int3)(1) : k < 5u ? (int3)(k != 2u, k != 3u, k != 4u) : (int3)(k == 5u, k == 6u, k == 7u);
+}
+
+/* class_odd for a class number per lane: bit k of each mask is class_odd(k)'s axis. */
+inline void class_odd_lanes(sdf_index k, sdf_index* ox, sdf_index* oy, sdf_index* oz) {
+    *ox = ((sdf_index)(0x3B) >> k) & 1;
+    *oy = ((sdf_index)(0x57) >> k) & 1;
+    *oz = ((sdf_index)(0x8F) >> k) & 1;
 }
 
 /* The lattice coordinates of points i of a class, one per lane. */
@@ -244,9 +262,9 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     __local int failed;
     __local uint fold_count;
     __local float stored[STORED];                   /* the samples, then zeros that lanes past them read */
-    __local ushort to_fold[CLASS_POINTS];           /* the class's points that need the fold */
-    __local float interp[VALUES * SDF_LANES];       /* per point of the class */
-    __local float value[CLASS_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
+    __local ushort to_fold[PHASE_POINTS];           /* the phase's points that need the fold */
+    __local float interp[PHASE_POINTS + SDF_LANES]; /* per point of to_fold: its interpolated value */
+    __local float value[PHASE_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
     __local float deep_cells[VALUES * SDF_LANES];   /* per cell, numbered like its lowest corner: 1 when deep */
     __local float deep_points[VALUES * SDF_LANES];  /* per point number: its cell's deep_cells */
     const uint brick = get_group_id(0);
@@ -299,40 +317,47 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         store_lanes(gather_lanes(deep_cells, cell), deep_points + v * SDF_LANES);
     }
     float mine = 0.0f;
-    for (uint k = FIRST_CLASS; k < 8u; ++k) {
+    for (uint k0 = FIRST_CLASS; k0 < 8u; k0 = phase_end(k0)) {
         barrier(CLK_LOCAL_MEM_FENCE);
         if (failed) break; /* read by every work-item between the same barriers */
         if (lid == 0) fold_count = 0u;
         barrier(CLK_LOCAL_MEM_FENCE);
-        const int3 odd = class_odd(k);
-        const float reach = (k < 2u ? 0.8660254f : k < 5u ? 0.70710678f : 0.5f) * voxel;
-        /* SDF_LANES points at a time: those in deep cells are skipped, those known to lie beyond the
-         * window settled at once, and the others listed for the fold */
-        for (uint v = lid; v < VALUES; v += wg) {
-            sdf_index hx, hy, hz;
-            class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
-            const sdf_index even = ((hx | hy | hz) & 2) == 0; /* a cell centre of a cell with even coordinates */
-            const sdf_index outside = hx < INSIDE_LO || hy < INSIDE_LO || hz < INSIDE_LO || hx > INSIDE_HI ||
-                                      hy > INSIDE_HI || hz > INSIDE_HI || /* no point, or outside the cell */
-                                      (k == 0u && !even) || (k == 1u && FIRST_CLASS == 0u && even);
-            /* no point, or in a deep cell: skipped (a value with nothing else is not interpolated) */
-            const uint skipped = lane_bits(outside || load_lanes(deep_points + v * SDF_LANES) != 0.0f);
-            if (skipped == (1u << SDF_LANES) - 1u) continue;
-            sdf_real deepest;
-            const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
-            const sdf_index settled = fabs(deepest) - half_step - reach >= far;
-            const uint settle = lane_bits(settled) & ~skipped;
-            /* the list's order follows the atomics, but nothing computed depends on it: each point
-             * folds its own value, and the error's maximum and `failed` are order-free */
-            uint fold = ~(skipped | settle) & ((1u << SDF_LANES) - 1u);
-            if (fold) {
-                uint at = atomic_add(&fold_count, popcount(fold));
-                for (; fold; fold &= fold - 1u) to_fold[at++] = (ushort)(v * SDF_LANES + 31u - clz(fold & (0u - fold)));
+        for (uint k = k0; k < phase_end(k0); ++k) {
+            const int3 odd = class_odd(k);
+            const float reach = (k < 2u ? 0.8660254f : k < 5u ? 0.70710678f : 0.5f) * voxel;
+            /* SDF_LANES points at a time: those in deep cells are skipped, those known to lie beyond the
+             * window settled at once, and the others listed for the fold with their interpolated values */
+            for (uint v = lid; v < VALUES; v += wg) {
+                sdf_index hx, hy, hz;
+                class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, odd, &hx, &hy, &hz);
+                const sdf_index even = ((hx | hy | hz) & 2) == 0; /* a cell centre of a cell with even coordinates */
+                const sdf_index outside = hx < INSIDE_LO || hy < INSIDE_LO || hz < INSIDE_LO || hx > INSIDE_HI ||
+                                          hy > INSIDE_HI || hz > INSIDE_HI || /* no point, or outside the cell */
+                                          (k == 0u && !even) || (k == 1u && FIRST_CLASS == 0u && even);
+                /* no point, or in a deep cell: skipped (a value with nothing else is not interpolated) */
+                const uint skipped = lane_bits(outside || load_lanes(deep_points + v * SDF_LANES) != 0.0f);
+                if (skipped == (1u << SDF_LANES) - 1u) continue;
+                sdf_real deepest;
+                const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
+                const sdf_index settled = fabs(deepest) - half_step - reach >= far;
+                const uint settle = lane_bits(settled) & ~skipped;
+                /* the list's order follows the atomics, but nothing computed depends on it: each point
+                 * folds its own value, and the error's maximum and `failed` are order-free */
+                uint fold = ~(skipped | settle) & ((1u << SDF_LANES) - 1u);
+                if (fold) {
+                    float lane_values[SDF_LANES];
+                    sdf_spill_lanes(interpolated, lane_values);
+                    uint at = atomic_add(&fold_count, popcount(fold));
+                    for (; fold; fold &= fold - 1u, ++at) {
+                        const uint lane = 31u - clz(fold & (0u - fold));
+                        to_fold[at] = (ushort)((k << 10) | (v * SDF_LANES + lane));
+                        interp[at] = lane_values[lane];
+                    }
+                }
+                if (settle)
+                    mine = keep_errors(point_error(interpolated, copysign(SDF_SPLAT(far), deepest), tolerance, window),
+                                       settle, tolerance, mine, &failed);
             }
-            if (settle)
-                mine = keep_errors(point_error(interpolated, copysign(SDF_SPLAT(far), deepest), tolerance, window),
-                                   settle, tolerance, mine, &failed);
-            store_lanes(interpolated, interp + v * SDF_LANES);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
         const uint listed = fold_count;
@@ -342,8 +367,13 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
             for (uint j = lid; j < m; j += wg) chunk[j] = sdf_prepare(edits[list[base + j]]);
             barrier(CLK_LOCAL_MEM_FENCE);
             for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
-                sdf_index hx, hy, hz;
-                class_lanes(list_lanes(to_fold, t, listed), odd, &hx, &hy, &hz);
+                const sdf_index entry = list_lanes(to_fold, t, listed);
+                sdf_index ox, oy, oz, hx, hy, hz;
+                class_odd_lanes(entry >> 10, &ox, &oy, &oz);
+                class_lanes(entry & 1023, (int3)(0), &hx, &hy, &hz);
+                hx += ox;
+                hy += oy;
+                hz += oz;
                 const sdf_real px = origin_x + ((float)first.x + SDF_CONVERT_REAL(hx) * 0.5f + 0.5f) * voxel;
                 const sdf_real py = origin_y + ((float)first.y + SDF_CONVERT_REAL(hy) * 0.5f + 0.5f) * voxel;
                 const sdf_real pz = origin_z + ((float)first.z + SDF_CONVERT_REAL(hz) * 0.5f + 0.5f) * voxel;
@@ -358,8 +388,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
             const sdf_real exact = b.edit_count ? load_lanes(value + t) : SDF_SPLAT(clamp_c);
             const uint lanes = min((uint)SDF_LANES, listed - t);
-            mine = keep_errors(point_error(gather_lanes(interp, list_lanes(to_fold, t, listed)),
-                                           fmin(fmax(exact, -band), band), tolerance, window),
+            mine = keep_errors(point_error(load_lanes(interp + t), fmin(fmax(exact, -band), band), tolerance, window),
                                (1u << lanes) - 1u, tolerance, mine, &failed);
         }
     }
