@@ -6,12 +6,13 @@
  * where the tracer reads the neighbours), where the trilinear interpolation the tracer uses is the
  * mean of 2, 4 or 8 samples. Both are compared clamped to +-window (one voxel of this level, at least
  * the finest band: every surface point has check points on both sides inside it, while a kink of the
- * field further out, the middle of a thick slab, must not force a refinement). A check point fails when |interpolated - field| > tolerance
- * there, or when the two differ in sign and the field is at least tolerance / 2 deep (a thin feature
- * that the samples step over). Check points half a voxel apart cannot see a feature narrower than
- * that, so a brick whose list holds an edit thinner than its voxel (sdf_feature_size) whose surface
- * comes within `radius` (the cull's: the brick and its apron; cell: the cull's cell size) plus the
- * window of the brick's centre fails too, whatever its points show (brick_thin, which runs first).
+ * field further out, the middle of a thick slab, must not force a refinement). A check point fails
+ * when |interpolated - field| > tolerance there, or when the two differ in sign and the field is at
+ * least tolerance / 2 deep (a thin feature that the samples step over). Check points half a voxel
+ * apart cannot see a feature narrower than that, so a brick whose list holds an edit thinner than its
+ * voxel (sdf_feature_size) whose surface comes within `radius` (the cull's: the brick and its apron;
+ * cell: the cull's cell size) plus the window of the brick's centre fails too, whatever its points
+ * show (brick_thin, which runs first).
  * Every edit the cull drops fails that distance test, so culling on and off agree.
  * The points go in eight classes (seven with one lane), cell centres first (class_odd), and the
  * classes in phases (phase_end: each class of cell centres, then the six others together), in values

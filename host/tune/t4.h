@@ -26,8 +26,9 @@ nlohmann::json t4_results(const nlohmann::json& devices, const std::string& time
 
 // The best result of `doc` for `kernel`: valid ("correct"), with a time, and a configuration of
 // exactly the kernel's parameters (integers; one that needs an extension may be missing: TunedParam)
-// that the device can run; a result that names its kernel must name this one. Throws InputError (naming `where` and the JSON path) for a document that is not
-// T4 results; std::nullopt when no result fits.
+// that the device can run; a result that names its kernel must name this one. Throws InputError
+// (naming `where` and the JSON path) for a document that is not T4 results; std::nullopt when no
+// result fits.
 struct T4Best {
     Config params;
     double ms = 0.0;
