@@ -52,11 +52,17 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
         std::all_of(k.params.begin(), k.params.end(), [&](const TunedParam& p) { return given.contains(p.name); });
     const std::string source = all_given ? "command line" : std::string(to_string(l.source));
     const Config used = k.read(s, t);
+    std::string ignored;  // a setting this device ignores, given anyway
+    for (const TunedParam& p : k.params)
+        if (!p.extension.empty() && !device.has_extension(p.extension) && used.at(p.name) != p.values.front())
+            ignored += fmt::format(" ({} {} has no effect: {} lacks {})", p.name, used.at(p.name), device.name,
+                                   p.extension);
     KernelApplied out{{{"source", source}, {"params", used}},
-                      fmt::format("{} {} ({}){}", k.name, k.describe(used), source, note)};
+                      fmt::format("{} {} ({}){}{}", k.name, k.describe(used), source, note, ignored)};
     if (!all_given) out.record["layer"] = layer_of(l.source);
     if (l.entry && !all_given) out.record["entry"] = describe_entry(*l.entry);
     if (!note.empty()) out.record["not_applied"] = note;
+    if (!ignored.empty()) out.record["ignored"] = ignored;
     return out;
 }
 

@@ -285,6 +285,13 @@ TEST(TuneTuning, ApplyTakesTheRegisterCapUnlessGiven) {
     tune::apply_tuning(&db, fake_device("GPU O", "Acme"), {}, s, &t);
     EXPECT_EQ(t.max_registers, 0);
     EXPECT_EQ(t.group_y, 4);
+
+    t = {};
+    t.max_registers = 64;  // given where the compiler takes no cap
+    const tune::Applied a = tune::apply_tuning(&db, fake_device("GPU O", "Acme"), given, s, &t);
+    EXPECT_EQ(t.max_registers, 64);
+    EXPECT_NE(a.text.find("registers 64 has no effect: GPU O lacks cl_nv_compiler_options"), std::string::npos)
+        << a.text;
 }
 
 // The tuner measures through the run loop on the test device: both kernels, every configuration
