@@ -229,17 +229,19 @@ inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine
     return fmax(mine, max_lanes(select(SDF_SPLAT(0.0f), error, on)));
 }
 
-/* Before the samples are evaluated: per brick, whether it reaches a thin edit (then it fails, and
- * its copy in `masked`, which the evaluation reads, has no edits, so that nothing is folded for it).
- * passed: 0 for those, 1 for the others (brick_check decides them). */
+/* Before the samples are evaluated: per brick, whether it reaches a thin edit or has fewer than
+ * min_children children at the next level (children: that level's count over every brick checked
+ * here). Either fails it: its copy in `masked`, which the evaluation reads, has no edits, so that
+ * nothing is folded for it. passed: 0 for those, 1 for the others (brick_check decides them). */
 __kernel void brick_thin(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                          __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z, float voxel,
-                         float window, float cell, float radius, __global SdfBrick* masked, __global uint* passed) {
+                         float window, float cell, float radius, __global const uint* children, uint min_children,
+                         __global SdfBrick* masked, __global uint* passed) {
     __local int thin;
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     SdfBrick b = bricks[brick];
-    if (lid == 0) thin = 0;
+    if (lid == 0) thin = min_children > 0u && children[brick] < min_children;
     barrier(CLK_LOCAL_MEM_FENCE);
     const float3 centre = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
                                           (int3)(b.coord[0], b.coord[1], b.coord[2]));

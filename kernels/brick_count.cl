@@ -122,3 +122,12 @@ __kernel void brick_count_merge(__global SdfBrick* parents, uint parent_count, u
     parents[parent].child_mask[1] = mask[1];
     child_counts[parent] = count;
 }
+
+/* The child counts of parents whose masks are final already (the count ran before their level's
+ * check, AdaptiveLeaves::check_and_split): the bits of each mask. */
+__kernel void brick_mask_counts(__global const SdfBrick* parents, uint parent_count, __global uint* child_counts) {
+    const uint parent = get_global_id(0);
+    if (parent >= parent_count) return;
+    const SdfBrick b = parents[parent];
+    child_counts[parent] = popcount(b.child_mask[0]) + popcount(b.child_mask[1]);
+}

@@ -1,7 +1,8 @@
 /* brick_order.cl: stage "order" (adaptive builds). Leaves come from several levels; each level's are
  * in Morton order already, and the merged list must be too (the LBVH is built on it), with no sort:
  *   brick_split: a checked level's bricks -> its leaves (passed) and the next level's parents, both
- *                in their order (offsets: exclusive scan of passed);
+ *                in their order (offsets: exclusive scan of passed); the parents from `counted`, the
+ *                bricks with the next level's child masks where that count ran before the check;
  *   brick_keys:  each leaf's finest-level Morton key (of every level, concatenated level by level,
  *                level_first[m] the first of level m; the apron stage keys the merged leaves with it);
  *   brick_rank:  for each leaf, its position in the merged list = the leaves of every level whose key
@@ -14,13 +15,14 @@
  * brick_keep and brick_put copy a brick's samples as `words` 32-bit words (any format). */
 #include "sdf_morton.h"
 
-__kernel void brick_split(__global const SdfBrick* bricks, uint count, __global const uint* passed,
-                          __global const uint* leaf_offsets, __global SdfBrick* leaves, __global SdfBrick* parents) {
+__kernel void brick_split(__global const SdfBrick* bricks, __global const SdfBrick* counted, uint count,
+                          __global const uint* passed, __global const uint* leaf_offsets, __global SdfBrick* leaves,
+                          __global SdfBrick* parents) {
     const uint i = get_global_id(0);
     if (i >= count) return;
     const uint before = leaf_offsets[i];
     if (passed[i]) leaves[before] = bricks[i];
-    else parents[i - before] = bricks[i];
+    else parents[i - before] = counted[i];
 }
 
 __kernel void brick_keys(__global const SdfBrick* bricks, uint count, uint finest, uint log2b, __global ulong* keys) {

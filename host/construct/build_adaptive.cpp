@@ -41,13 +41,26 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     // Errors count within one voxel of this level of the surface (at least the finest band): every
     // surface point then has check points on both sides within the window.
     const float window = std::max(in_.plan.band, voxel);
-    // The bricks that reach a thin edit fail first, and their copies in `masked` have no edits; the
-    // others' samples come from the evaluation, which the check compares with the field.
+    // At the last checked level, the children each brick has among the finest bricks: the finest
+    // level's count runs before the check, over every brick, on a copy that the parents are taken
+    // from (so the next count only adds up their masks). A brick with fewer than two fails unchecked:
+    // as a leaf it would stand for one finest brick or none (its band reaches past its cell), which
+    // saves nothing, so no check is spent on it.
+    const bool last = level + 1 == in_.plan.finest();
+    ocl::Buffer<SdfBrick> counted = allocate<SdfBrick>(in_.device, last ? n : 1, "the counted bricks");
+    ocl::Buffer<cl_uint> children = allocate<cl_uint>(in_.device, last ? n : 1, "the checked bricks' child counts");
+    if (last) {
+        counted.copy_from(levels.parents());
+        levels.count_children(level, counted, children);
+    }
+    const cl_uint min_children = last ? 2u : 0u;
+    // Those and the bricks that reach a thin edit fail first, and their copies in `masked` have no
+    // edits; the others' samples come from the evaluation, which the check compares with the field.
     ocl::Buffer<SdfBrick> masked = allocate<SdfBrick>(in_.device, n, "the checked bricks");
     const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
     ocl::set_args(thin.get(), in_.edits, in_.meshes, levels.lists(), levels.parents(), in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
-                  in_.plan.cull_radius(level, layout.apron()), masked, out.passed);
+                  in_.plan.cull_radius(level, layout.apron()), children, min_children, masked, out.passed);
     in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * kGroup1d, kGroup1d);
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
     evaluate_samples(in_, masked, levels.lists(), n, nullptr, samples, measure::Stage::check, level);
@@ -65,8 +78,8 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(
         allocate<SdfBrick>(in_.device, n - out.count, fmt::format("the parents of level {}", level + 1)));
     const auto& k = in_.programs;
-    ocl::set_args(k.split_k.get(), levels.parents(), static_cast<cl_uint>(n), out.passed, offsets, *out.leaves,
-                  *parents);
+    ocl::set_args(k.split_k.get(), levels.parents(), last ? counted : levels.parents(), static_cast<cl_uint>(n),
+                  out.passed, offsets, *out.leaves, *parents);
     in_.scheduler.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
     if (out.count > 0) {  // the leaves' samples: the leaf evaluation puts them instead of evaluating them
         out.samples = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
@@ -76,9 +89,11 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
         in_.scheduler.launch(measure::Stage::check, level, k.keep_k.get(), n * kGroup1d, kGroup1d);
         kept_bytes_ += out.samples->bytes();
     }
-    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes() + kept_bytes_);
+    levels.bytes.scratch = std::max<std::uint64_t>(
+        levels.bytes.scratch, samples.bytes() + masked.bytes() + counted.bytes() + children.bytes() + kept_bytes_);
     levels.bytes.bricks += out.leaves->bytes() + parents->bytes();
     levels.set_parents(std::move(parents));
+    if (last) levels.parents_counted();
     const std::uint64_t left = n - out.count;
     checked_.push_back(std::move(out));
     return left;

@@ -116,21 +116,19 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     return shape;
 }
 
-std::uint64_t Levels::count_and_scan(int level) {
+void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts) {
     const cl_uint lb = level_log2b(level);
     const std::size_t per_parent = std::size_t{1} << (3 * lb);
     const std::uint64_t entries = parent_entries_.empty() ? in_.edits_host.size() : parent_entries_.back();
     const CountShape shape =
         count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
-    if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(in_.device, parent_count_, "the child counts");
-    if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(in_.device, parent_count_, "the child offsets");
     const std::size_t per = per_parent / shape.splits, values = shape.parts > 1 ? shape.chunk * per : 1;
     const std::size_t split_words = shape.splits > 1 ? 3 * parent_count_ * shape.splits : 1;
     if (split_words_.size() < split_words) split_words_ = allocate<cl_uint>(in_.device, split_words, "the split counts");
     const auto& k = in_.programs;
-    ocl::set_args(k.count_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, lb, in_.origin.x, in_.origin.y,
+    ocl::set_args(k.count_k.get(), in_.edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
                   in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level),
-                  in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude), counts_,
+                  in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude), counts,
                   static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},
@@ -138,10 +136,27 @@ std::uint64_t Levels::count_and_scan(int level) {
     in_.scheduler.launch(measure::Stage::count, level, k.count_k.get(), parent_count_ * per_parent * shape.parts,
                          per * shape.parts);
     if (shape.splits > 1) {
-        ocl::set_args(k.count_merge_k.get(), *parents_, static_cast<cl_uint>(parent_count_),
-                      static_cast<cl_uint>(shape.splits), split_words_, counts_);
+        ocl::set_args(k.count_merge_k.get(), parents, static_cast<cl_uint>(parent_count_),
+                      static_cast<cl_uint>(shape.splits), split_words_, counts);
         in_.scheduler.launch(measure::Stage::count, level, k.count_merge_k.get(), round_up(parent_count_, kGroup1d),
                              kGroup1d);
+    }
+}
+
+void Levels::count_children(int level, ocl::Buffer<SdfBrick>& bricks, ocl::Buffer<cl_uint>& counts) {
+    count(level + 1, bricks, counts);
+}
+
+std::uint64_t Levels::count_and_scan(int level) {
+    if (counts_.size() < parent_count_) counts_ = allocate<cl_uint>(in_.device, parent_count_, "the child counts");
+    if (offsets_.size() < parent_count_) offsets_ = allocate<cl_uint>(in_.device, parent_count_, "the child offsets");
+    if (parents_counted_) {
+        ocl::set_args(in_.programs.mask_counts_k.get(), *parents_, static_cast<cl_uint>(parent_count_), counts_);
+        in_.scheduler.launch(measure::Stage::count, level, in_.programs.mask_counts_k.get(),
+                             round_up(parent_count_, kGroup1d), kGroup1d);
+        parents_counted_ = false;
+    } else {
+        count(level, *parents_, counts_);
     }
     const std::uint64_t children =
         in_.scan.exclusive(counts_, offsets_, parent_count_, in_.scheduler, measure::Stage::scan, level);

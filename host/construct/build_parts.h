@@ -73,7 +73,7 @@ inline float float_down(double x) {
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, count_merge_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
+    ocl::Kernel count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
         keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
@@ -102,6 +102,7 @@ struct BuildPrograms {
           cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
           order(ocl::build_program(d, "brick_order.cl")),
           count_k(ocl::make_kernel(count, "brick_count")), count_merge_k(ocl::make_kernel(count, "brick_count_merge")),
+          mask_counts_k(ocl::make_kernel(count, "brick_mask_counts")),
           subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
@@ -221,6 +222,12 @@ public:
     std::unique_ptr<ocl::Buffer<cl_uint>> take_lists() { return std::move(parent_lists_); }
     // Scratch of at least n per-brick offsets (kept across levels).
     ocl::Buffer<cl_uint>& offsets(std::size_t n, std::string_view what);
+    // The count of level + 1 over this level's bricks as they stand (every candidate of a checked
+    // level), into `bricks` (a copy of parents(): the child masks are written there) and counts.
+    void count_children(int level, ocl::Buffer<SdfBrick>& bricks, ocl::Buffer<cl_uint>& counts);
+    // The parents set next carry their child masks already (count_children): the next level's
+    // count only adds up their bits.
+    void parents_counted() { parents_counted_ = true; }
     // Every level's records (adaptive: its parents); the last is the leaf level's after run().
     const std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>>& level_bricks() const { return level_bricks_; }
     std::unique_ptr<ocl::Buffer<SdfBrick>> take_last_level() { return std::move(level_bricks_.back()); }
@@ -243,6 +250,8 @@ private:
         std::size_t chunk = 0;   // edits staged at once
     };
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
+    // The count stage of `level` over parents (parent_count_ of them): child masks and counts.
+    void count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts);
     std::uint64_t count_and_scan(int level);
     // Refuses (SettingError "leaf_size") projected leaves whose host bytes (settings.host_bytes_per_leaf)
     // exceed the host memory available.
@@ -269,6 +278,7 @@ private:
     std::unique_ptr<ocl::Buffer<SdfBrick>> parents_;  // the current level's parents, then its bricks
     std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
     std::size_t parent_count_ = 1;
+    bool parents_counted_ = false;
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;
     std::vector<std::uint64_t> list_entries_;
     std::vector<std::uint64_t> parent_entries_;  // every level's, as parent_entries() says
