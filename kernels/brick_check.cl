@@ -100,15 +100,16 @@ inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float
  * point (no sample above it): h = 2 S - 1 there, past the lattice's 2 CELLS, and such lanes are
  * skipped. So a value's corners are consecutive samples (loads, not gathers), and its coordinates
  * take a division by the constant S. */
-inline int3 class_odd(uint k) {
-    return k < 2u ? (int3)(1) : k < 5u ? (int3)(k != 2u, k != 3u, k != 4u) : (int3)(k == 5u, k == 6u, k == 7u);
-}
+#define ODD_X 0x3B /* bit k: whether class k is odd on x (classes 0-1 (1, 1, 1); 2-4 (0, 1, 1), */
+#define ODD_Y 0x57 /* (1, 0, 1), (1, 1, 0); 5-7 (1, 0, 0), (0, 1, 0), (0, 0, 1)) */
+#define ODD_Z 0x8F
+inline int3 class_odd(uint k) { return (int3)((ODD_X >> k) & 1, (ODD_Y >> k) & 1, (ODD_Z >> k) & 1); }
 
-/* class_odd for a class number per lane: bit k of each mask is class_odd(k)'s axis. */
+/* class_odd for a class number per lane. */
 inline void class_odd_lanes(sdf_index k, sdf_index* ox, sdf_index* oy, sdf_index* oz) {
-    *ox = ((sdf_index)(0x3B) >> k) & 1;
-    *oy = ((sdf_index)(0x57) >> k) & 1;
-    *oz = ((sdf_index)(0x8F) >> k) & 1;
+    *ox = ((sdf_index)(ODD_X) >> k) & 1;
+    *oy = ((sdf_index)(ODD_Y) >> k) & 1;
+    *oz = ((sdf_index)(ODD_Z) >> k) & 1;
 }
 
 /* The lattice coordinates of points i of a class, one per lane. */

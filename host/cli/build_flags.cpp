@@ -110,15 +110,20 @@ void TraceFlags::add_to(CLI::App* cmd) {
                      ->check(CLI::Range(0, 255));
 }
 
+render::Method method_flag(const std::string& value) {
+    const auto m = render::method_from_string(value);
+    if (!m) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), value));
+    return *m;
+}
+
 render::TraceSettings TraceFlags::resolve() const {
     if (!pipeline::is_render_mode(mode))
         throw InputError(fmt::format("--mode must be normals, depth, shaded, steps or bricks, got \"{}\"", mode));
-    const auto m = render::method_from_string(method);
-    if (!m) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), method));
+    const render::Method m = method_flag(method);
     const auto n = render::normals_from_string(normals);
     if (!n) throw InputError(fmt::format("--normals must be central, tetra or continuous, got \"{}\"", normals));
     render::TraceSettings t = trace;
-    t.method = *m;
+    t.method = m;
     t.normals = *n;
     t.shade = mode == "shaded";
     validate_image_size(t.width, t.height);

@@ -36,6 +36,9 @@ private:
     CLI::Option* group_ = nullptr;
 };
 
+// The value of a --method flag; throws InputError naming the flag.
+render::Method method_flag(const std::string& value);
+
 // The trace options that `render` and `play` share: --width --height --mode --method --normals
 // --group-x --group-y --shadow-rays --ao-rays --max-registers.
 struct TraceFlags {

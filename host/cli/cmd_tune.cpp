@@ -71,9 +71,7 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     if (o.spec.budget < 1) throw InputError("--budget must be at least 1");
     validate_image_size(o.spec.width, o.spec.height);
     tune::TuneSpec spec = o.spec;
-    const auto method = render::method_from_string(o.method);
-    if (!method) throw InputError(fmt::format("--method must be {}, got \"{}\"", render::method_names(), o.method));
-    spec.method = *method;
+    spec.method = method_flag(o.method);
     const construct::BuildSettings base = o.flags.resolve();
     const Scene file_scene = load_scene_warned(o.file);
     const Scene scene = scene_at(file_scene, file_scene.time);

@@ -288,17 +288,19 @@ struct TraceArgs {
     bool group_given = false, registers_given = false;
 };
 
+render::Method method_argument(const std::string& value) {
+    const auto m = render::method_from_string(value);
+    if (!m) throw SettingError("method", fmt::format("method must be {}, got \"{}\"", render::method_names(), value));
+    return *m;
+}
+
 TraceArgs take_trace(Kwargs& k) {
     TraceArgs t;
     render::TraceSettings& trace = t.trace;
     if (const auto v = k.integer("width")) trace.width = *v;
     if (const auto v = k.integer("height")) trace.height = *v;
     if (const auto v = k.string("mode")) t.mode = *v;
-    if (const auto v = k.string("method")) {
-        const auto m = render::method_from_string(*v);
-        if (!m) throw SettingError("method", fmt::format("method must be {}, got \"{}\"", render::method_names(), *v));
-        trace.method = *m;
-    }
+    if (const auto v = k.string("method")) trace.method = method_argument(*v);
     if (const auto v = k.string("normals")) {
         const auto n = render::normals_from_string(*v);
         if (!n) throw SettingError("normals", fmt::format("normals must be central, tetra or continuous, got \"{}\"", *v));
@@ -825,11 +827,7 @@ public:
         if (spec.warmup < 0 || spec.warmup > 100) throw SettingError("warmup", fmt::format("warmup must lie in 0..100, got {}", spec.warmup));
         if (const auto v = k.integer("width")) spec.width = *v;
         if (const auto v = k.integer("height")) spec.height = *v;
-        if (const auto v = k.string("method")) {
-            const auto m = render::method_from_string(*v);
-            if (!m) throw SettingError("method", fmt::format("method must be {}, got \"{}\"", render::method_names(), *v));
-            spec.method = *m;
-        }
+        if (const auto v = k.string("method")) spec.method = method_argument(*v);
         const construct::BuildSettings base = take_build_settings(k).settings;
         k.done();
         std::vector<const tune::TunedKernel*> kernels;
