@@ -6,8 +6,8 @@
  *   brick_keys:  each leaf's finest-level Morton key (of every level, concatenated level by level,
  *                level_first[m] the first of level m; the apron stage keys the merged leaves with it);
  *   brick_rank:  for each leaf, its position in the merged list = the leaves of every level whose key
- *                is smaller (a binary search per level over the keys; keys are distinct because
- *                leaves are disjoint cells);
+ *                is smaller (keys are distinct because leaves are disjoint cells): in its own level
+ *                its index there, in each other level a binary search over the keys;
  *   brick_place: each leaf to its position, its edit_offset moved by its level's list base (the
  *                levels' lists are concatenated too), and to `evaluated` with no edits when the check
  *                evaluated it (a level coarser than the finest): the leaf evaluation runs on those
@@ -39,6 +39,7 @@ __kernel void brick_rank(__global const ulong* keys, __global const uint* level_
     for (uint m = 0; m < level_count; ++m) {
         uint lo = level_first[m], hi = level_first[m + 1u];
         const uint first = lo;
+        if (i >= lo && i < hi) lo = hi = i; /* its own level, sorted: the keys before it are smaller */
         while (lo < hi) {
             const uint mid = lo + ((hi - lo) >> 1);
             if (keys[mid] < key) lo = mid + 1u; else hi = mid;
