@@ -273,6 +273,10 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     __local float deep_points[VALUES * SDF_LANES];  /* per point number: its cell's deep_cells */
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
+    if (passed[brick] == 0u) { /* brick_thin failed it (every work-item returns here) */
+        if (lid == 0) errors[brick] = INFINITY;
+        return;
+    }
     const SdfBrick b = bricks[brick];
     __global const uint* list = edit_indices + b.edit_offset;
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
@@ -284,7 +288,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
 #endif
     }
     for (uint idx = SAMPLE_COUNT + lid; idx < STORED; idx += wg) stored[idx] = 0.0f;
-    if (lid == 0) failed = passed[brick] == 0u; /* brick_thin failed it */
+    if (lid == 0) failed = 0;
     /* Depth beyond which a check point needs no fold: the window and the sign test's depth, with a
      * margin of 1/64 voxel for the rounding of the folds. A stored sample is within half a
      * quantisation step of F clamped to the band, and F is 1-Lipschitz: a point sqrt(odd axes) / 2
