@@ -59,7 +59,9 @@ bool Levels::run() {
         parent_count_ = children;
         if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0) {
             parent_count_ = adaptive_->check_and_split(level, *this);
-            if (parent_count_ > 0 && in_.settings.cull && recull_pays(level)) recull_parents(level);
+            if (parent_count_ > 0 && in_.settings.cull && !reculled_ && recull_pays(level))
+                adaptive_->keep_lists(level, recull(level));
+            reculled_ = false;
         }
         if (parent_count_ == 0) break;
     }
@@ -236,15 +238,18 @@ bool Levels::recull_pays(int level) const {
     return ratio * ratio * ratio <= 0.5;
 }
 
-// The parents a checked level leaves: their lists were culled to hold for their own evaluation as
-// leaves (a wider saturation); their children need less. Culled again, the next level's count and
-// cull read shorter lists. The level's leaves keep the lists they were checked with.
-void Levels::recull_parents(int level) {
+// The bricks of a checked level (all of them before the check, its parents after it): their lists
+// were culled to hold for their own evaluation as leaves (a wider saturation); their children need
+// less. Culled again, the next level's count and cull read shorter lists. The level's leaves keep
+// the lists they were checked with (the ones returned).
+std::unique_ptr<ocl::Buffer<cl_uint>> Levels::recull(int level) {
     ocl::set_args(in_.programs.words_k.get(), *parents_, static_cast<cl_uint>(parent_count_), words_);
     in_.scheduler.launch(measure::Stage::cull, level, in_.programs.words_k.get(), round_up(parent_count_, kGroup1d),
                          kGroup1d);
-    adaptive_->keep_lists(level, cull_lists(level, parent_count_, in_.plan.parent_saturation(level)));
+    std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, parent_count_, in_.plan.parent_saturation(level));
     parent_entries_.back() = parent_lists_->size();
+    reculled_ = true;
+    return replaced;
 }
 
 // What the device runs of a kernel at once, as the count and cull stages size their work: compute

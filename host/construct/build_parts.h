@@ -228,6 +228,11 @@ public:
     // The parents set next carry their child masks already (count_children): the next level's
     // count only adds up their bits.
     void parents_counted() { parents_counted_ = true; }
+    // Whether culling this level's bricks again for their children pays (recull_pays), and that
+    // cull: the bricks (parents()) then point into shorter lists; returns the lists replaced. Run
+    // before the check, it stands for the cull of the parents after it.
+    bool recull_pays(int level) const;
+    std::unique_ptr<ocl::Buffer<cl_uint>> recull(int level);
     // Every level's records (adaptive: its parents); the last is the leaf level's after run().
     const std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>>& level_bricks() const { return level_bricks_; }
     std::unique_ptr<ocl::Buffer<SdfBrick>> take_last_level() { return std::move(level_bricks_.back()); }
@@ -258,8 +263,6 @@ private:
     void check_host_projection(int level, std::uint64_t children, double projected) const;
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
-    bool recull_pays(int level) const;
-    void recull_parents(int level);
     // Culls the lists of this level's n bricks (parents_) at `saturation`; returns the lists replaced.
     std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation);
     std::uint64_t keep_subtrees(std::uint64_t children);
@@ -279,6 +282,7 @@ private:
     std::unique_ptr<ocl::Buffer<cl_uint>> parent_lists_;
     std::size_t parent_count_ = 1;
     bool parents_counted_ = false;
+    bool reculled_ = false;  // this level's bricks were culled again before the check
     std::vector<std::unique_ptr<ocl::Buffer<SdfBrick>>> level_bricks_;
     std::vector<std::uint64_t> list_entries_;
     std::vector<std::uint64_t> parent_entries_;  // every level's, as parent_entries() says
