@@ -344,11 +344,13 @@ inline float tr_slot_slab(__global const SdfBvhWideNode* node, int k, float3 o, 
 }
 
 /* Visits wide node i: the slots the segment [t_min, t_far] enters, nearest entry first; returns the
- * nearest (TR_NONE if none) and pushes the others, the farthest first. Internal slots are not tested
- * again when popped (their own slots are; a test there cost the shading kernel 17% on an H200,
- * docs/performance.md); leaf slots are, against the nearest hit by then. */
+ * nearest (TR_NONE if none) and pushes the others, the farthest first. With any_hit the slots stay in
+ * slot order: whether a hit exists does not depend on the order, and on an H200 the sorting cost the
+ * shading kernel 4% with sphere rays and 8% with hybrid ones (docs/measurements/roof/d22). Internal
+ * slots are not tested again when popped (their own slots are; a test there cost the shading kernel
+ * 17% on an H200, docs/performance.md); leaf slots are, against the nearest hit by then. */
 inline uint tr_visit(__global const SdfBvhWideNode* nodes, uint i, float3 o, float3 inv_d, float t_min, float t_far,
-                     uint* stack, int* sp) {
+                     uint* stack, int* sp, int any_hit) {
     __global const float4* v = (__global const float4*)(nodes + i);
     /* four slab tests in one, with the operations of tr_slot_slab in the same order */
     const float4 ax = (v[0] - o.x) * inv_d.x, bx = (v[3] - o.x) * inv_d.x;
@@ -362,14 +364,20 @@ inline uint tr_visit(__global const SdfBvhWideNode* nodes, uint i, float3 o, flo
     const uint4 e = select(select(leaf, as_uint4(c), c >= (int4)(0)), (uint4)(TR_NONE), as_uint4(!in));
     float key[4] = {in.x ? n.x : INFINITY, in.y ? n.y : INFINITY, in.z ? n.z : INFINITY, in.w ? n.w : INFINITY};
     uint entry[4] = {e.x, e.y, e.z, e.w};
-    tr_order(key, entry, 0, 1);
-    tr_order(key, entry, 2, 3);
-    tr_order(key, entry, 0, 2);
-    tr_order(key, entry, 1, 3);
-    tr_order(key, entry, 1, 2);
-    for (int k = 3; k >= 1; --k)
-        if (entry[k] != TR_NONE) stack[(*sp)++] = entry[k];
-    return entry[0];
+    if (!any_hit) {
+        tr_order(key, entry, 0, 1);
+        tr_order(key, entry, 2, 3);
+        tr_order(key, entry, 0, 2);
+        tr_order(key, entry, 1, 3);
+        tr_order(key, entry, 1, 2);
+    }
+    uint nearest = TR_NONE;
+    for (int k = 3; k >= 0; --k)
+        if (entry[k] != TR_NONE) {
+            if (nearest != TR_NONE) stack[(*sp)++] = nearest;
+            nearest = entry[k];
+        }
+    return nearest;
 }
 
 /* The next entry: the nearest slot of the node just visited, else the last one pushed; TR_NONE when
@@ -400,7 +408,7 @@ inline void tr_blas(const TraceScene* sc, SdfBrickGeometry g, uint instance, flo
     for (uint e = g.root; e != TR_NONE;) {
         if (!(e & TR_LEAF)) {
             ++hit->visits;
-            e = tr_next(tr_visit(sc->nodes, e, o, inv_d, t_min, tr_bound(hit, t_max), stack, &sp), stack, &sp);
+            e = tr_next(tr_visit(sc->nodes, e, o, inv_d, t_min, tr_bound(hit, t_max), stack, &sp, any_hit), stack, &sp);
             continue;
         }
         __global const SdfBvhWideNode* node = sc->nodes + ((e & ~TR_LEAF) >> 2);
@@ -446,7 +454,7 @@ inline TraceHit tr_trace(const TraceScene* sc, float3 o, float3 d, float t_min, 
     for (uint e = 0u; e != TR_NONE;) {
         if (!(e & TR_LEAF)) {
             ++hit.visits;
-            e = tr_next(tr_visit(sc->tlas, e, o, inv_d, t_min, tr_bound(&hit, t_max), stack, &sp), stack, &sp);
+            e = tr_next(tr_visit(sc->tlas, e, o, inv_d, t_min, tr_bound(&hit, t_max), stack, &sp, any_hit), stack, &sp);
             continue;
         }
         __global const SdfBvhWideNode* node = sc->tlas + ((e & ~TR_LEAF) >> 2);
