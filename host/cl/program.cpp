@@ -568,6 +568,13 @@ std::size_t kernel_work_group_limit(const Device& device, cl_kernel kernel, std:
     return limit;
 }
 
+std::uint64_t kernel_local_bytes(const Device& device, cl_kernel kernel, std::string_view name) {
+    cl_ulong bytes = 0;
+    check(clGetKernelWorkGroupInfo(kernel, device.id(), CL_KERNEL_LOCAL_MEM_SIZE, sizeof(bytes), &bytes, nullptr),
+          fmt::format("querying the local memory of {}", name));
+    return bytes;
+}
+
 std::string encode_cache_entry(const CacheEntry& entry, const CacheSeal& seal) {
     std::string bytes = fmt::format("{}\nkey {}\nlog {}\nbinary {}\nmac {}\n", kCacheFormat, entry.key,
                                     entry.log.size(), entry.binary.size(), mac(seal, entry));

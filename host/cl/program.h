@@ -79,6 +79,10 @@ Kernel make_kernel(const Program& program, const char* name);
 // (CL_KERNEL_WORK_GROUP_SIZE: its registers and local memory can lower it below the device's limit).
 std::size_t kernel_work_group_limit(const Device& device, cl_kernel kernel, std::string_view name);
 
+// The __local bytes kernel uses on device with its __local arguments as set so far
+// (CL_KERNEL_LOCAL_MEM_SIZE; before any is set, its own __local arrays).
+std::uint64_t kernel_local_bytes(const Device& device, cl_kernel kernel, std::string_view name);
+
 // Rewrites locations that a compiler reports in the assembled source, ignoring its #line directives
 // (NVIDIA: "<kernel>:7:23: error"), to the kernel file and line: "bad.cl:3:23: error". build_program
 // applies it to every build log.

@@ -29,6 +29,17 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
         in_.device.info().type == "gpu"
             ? std::min<std::size_t>(128, ocl::kernel_work_group_limit(in_.device, kernel.get(), "brick_check"))
             : std::min<std::size_t>(in_.settings.eval_group, layout.samples_per_brick());
+    // Its chunk: the evaluation's, or as much as the device's local memory holds beside the check's
+    // own arrays (about 22 KB for 8^3 samples, 28 KB for 10^3) and the work-group's worst errors.
+    // The fold is in list order whatever the chunk: no bit depends on it.
+    const std::size_t chunk = staged_chunk(
+        static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
+        ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check") + group * sizeof(float), sizeof(SdfEdit));
+    if (chunk == 0)
+        throw SettingError("samples", fmt::format("the adaptive check of {}^3 samples needs more local memory than {} "
+                                                  "has ({} bytes): use 8 samples or a uniform build",
+                                                  layout.samples, in_.device.info().name,
+                                                  in_.device.info().local_mem_bytes));
     LevelLeaves out{level,
                     0,
                     nullptr,
@@ -80,8 +91,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
                   in_.origin.y, in_.origin.z, voxel, in_.plan.level_clamp[level], band, layout.dequantise_scale(band),
                   in_.plan.tolerance, window, out.errors, out.passed,
                   ocl::LocalMemory{group * sizeof(float)},
-                  ocl::LocalMemory{static_cast<std::size_t>(in_.settings.chunk) * sizeof(SdfEdit)},
-                  static_cast<cl_uint>(in_.settings.chunk));
+                  ocl::LocalMemory{chunk * sizeof(SdfEdit)}, static_cast<cl_uint>(chunk));
     in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
     ocl::Buffer<cl_uint>& offsets = levels.offsets(n, "the leaf offsets");
     out.count = in_.scan.exclusive(out.passed, offsets, n, in_.scheduler, measure::Stage::check, level);

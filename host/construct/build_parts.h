@@ -58,6 +58,15 @@ ocl::Buffer<T> allocate(ocl::Device& d, std::size_t count, std::string_view what
 // A list entry read with the edit it names.
 constexpr std::uint64_t kEntryBytes = sizeof(cl_uint) + sizeof(SdfEdit);
 
+// The edits a kernel stages at once: `wanted`, or as many of per_edit bytes each as the device's
+// local_bytes hold beside the used ones (the kernel's own arrays and its other __local arguments);
+// 0 when not one fits.
+inline std::size_t staged_chunk(std::size_t wanted, std::uint64_t local_bytes, std::uint64_t used,
+                                std::size_t per_edit) {
+    if (used >= local_bytes) return 0;
+    return static_cast<std::size_t>(std::min<std::uint64_t>(wanted, (local_bytes - used) / per_edit));
+}
+
 // Rounds a positive double up to the next float (the margins below must not shrink).
 inline float float_up(double x) {
     const auto f = static_cast<float>(x);

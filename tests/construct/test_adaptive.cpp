@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "construct/brick_builder.h"
+#include "construct/build_parts.h"
 #include "core/errors.h"
 #include "exchange/host_bricks.h"
 #include "reference/reference_field.h"
@@ -251,6 +252,23 @@ TEST(ConstructAdaptive, CullingTheCheckedParentsAgainChangesNoBit) {
     const std::string digest = construct::output_digest(on, s);
     s.cull = false;
     EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest) << "culling off";
+}
+
+// The check stages as much of its chunk as the device's local memory holds beside its own arrays
+// (10^3 samples take about 28 KB of a 32 KB device); the fold does not depend on the chunk.
+TEST(ConstructAdaptive, TheCheckStagesWhatLocalMemoryHolds) {
+    using construct::detail::staged_chunk;
+    EXPECT_EQ(staged_chunk(128, 65536, 30000, 64), 128u);
+    EXPECT_EQ(staged_chunk(128, 32768, 28672, 64), 64u);
+    EXPECT_EQ(staged_chunk(128, 32768, 32760, 64), 0u);
+    EXPECT_EQ(staged_chunk(16, 32768, 40000, 64), 0u);
+    const Geometry g = shipped_geometry("board");
+    BuildSettings s = adaptive(0.125, 0.01);
+    s.samples = 10;
+    s.chunk = 16;
+    const std::string digest = construct::output_digest(builder().build(g, s, test::recorder()), s);
+    s.chunk = 256;
+    EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest);
 }
 
 TEST(ConstructAdaptive, RefusesBadTolerances) {
