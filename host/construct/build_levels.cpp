@@ -118,6 +118,17 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     return shape;
 }
 
+// Whether the count of `level` keeps every child without a test (brick_count's keep_all): only
+// where its fold is wide, for the root, and on GPUs for the root's children, whose test folds the
+// whole list serially per child. On the H200 (docs/measurements/roof/d24) that took sculpt_dense's
+// count from 9.98-9.99 ms to 6.64-6.66 and edits_65536's from 7.79-7.80 to 4.58-4.59, with the
+// same digests; on PoCL (2 cores) the cull of the root's extra children cost more than the test
+// (sculpt: count and cull 513 -> 526 ms).
+bool Levels::keep_untested(int level) const {
+    const bool wide = in_.plan.saturation(level) > in_.plan.clamp_c;
+    return wide && (level == 0 || (level == 1 && in_.device.info().type == "gpu"));
+}
+
 void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts) {
     const cl_uint lb = level_log2b(level);
     const std::size_t per_parent = std::size_t{1} << (3 * lb);
@@ -130,7 +141,8 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
     const auto& k = in_.programs;
     ocl::set_args(k.count_k.get(), in_.edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
                   in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level),
-                  in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude), counts,
+                  in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude),
+                  static_cast<cl_uint>(keep_untested(level) ? 1 : 0), counts,
                   static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},

@@ -266,6 +266,7 @@ private:
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
     // The count stage of `level` over parents (parent_count_ of them): child masks and counts.
     void count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts);
+    bool keep_untested(int level) const;
     std::uint64_t count_and_scan(int level);
     // Refuses (SettingError "leaf_size") projected leaves whose host bytes (settings.host_bytes_per_leaf)
     // exceed the host memory available.
