@@ -364,20 +364,23 @@ inline uint tr_visit(__global const SdfBvhWideNode* nodes, uint i, float3 o, flo
     const uint4 e = select(select(leaf, as_uint4(c), c >= (int4)(0)), (uint4)(TR_NONE), as_uint4(!in));
     float key[4] = {in.x ? n.x : INFINITY, in.y ? n.y : INFINITY, in.z ? n.z : INFINITY, in.w ? n.w : INFINITY};
     uint entry[4] = {e.x, e.y, e.z, e.w};
-    if (!any_hit) {
-        tr_order(key, entry, 0, 1);
-        tr_order(key, entry, 2, 3);
-        tr_order(key, entry, 0, 2);
-        tr_order(key, entry, 1, 3);
-        tr_order(key, entry, 1, 2);
+    if (any_hit) { /* the first slot entered goes next, the others are pushed */
+        uint first = TR_NONE;
+        for (int k = 3; k >= 0; --k)
+            if (entry[k] != TR_NONE) {
+                if (first != TR_NONE) stack[(*sp)++] = first;
+                first = entry[k];
+            }
+        return first;
     }
-    uint nearest = TR_NONE;
-    for (int k = 3; k >= 0; --k)
-        if (entry[k] != TR_NONE) {
-            if (nearest != TR_NONE) stack[(*sp)++] = nearest;
-            nearest = entry[k];
-        }
-    return nearest;
+    tr_order(key, entry, 0, 1);
+    tr_order(key, entry, 2, 3);
+    tr_order(key, entry, 0, 2);
+    tr_order(key, entry, 1, 3);
+    tr_order(key, entry, 1, 2);
+    for (int k = 3; k >= 1; --k)
+        if (entry[k] != TR_NONE) stack[(*sp)++] = entry[k];
+    return entry[0];
 }
 
 /* The next entry: the nearest slot of the node just visited, else the last one pushed; TR_NONE when

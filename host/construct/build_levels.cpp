@@ -118,15 +118,10 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     return shape;
 }
 
-// Whether the count of `level` keeps every child without a test (brick_count's keep_all): only
-// where its fold is wide, for the root, and on GPUs for the root's children, whose test folds the
-// whole list serially per child. On the H200 (docs/measurements/roof/d24) that took sculpt_dense's
-// count from 9.98-9.99 ms to 6.64-6.66 and edits_65536's from 7.79-7.80 to 4.58-4.59, with the
-// same digests; on PoCL (2 cores) the cull of the root's extra children cost more than the test
-// (sculpt: count and cull 513 -> 526 ms).
+// Whether the count of `level` keeps every child without a test (brick_count's keep_all).
 bool Levels::keep_untested(int level) const {
-    const bool wide = in_.plan.saturation(level) > in_.plan.clamp_c;
-    return wide && (level == 0 || (level == 1 && in_.device.info().type == "gpu"));
+    return keep_children_untested(level, in_.plan.saturation(level) > in_.plan.clamp_c, in_.plan.coarsest_leaf,
+                                  in_.device.info().type == "gpu");
 }
 
 void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts) {

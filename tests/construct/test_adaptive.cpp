@@ -271,6 +271,23 @@ TEST(ConstructAdaptive, TheCheckStagesWhatLocalMemoryHolds) {
     EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest);
 }
 
+// The count keeps the root's children untested only on GPUs, and never where they may be leaves:
+// an untested candidate of a checked level could pass the check where no surface is. (On the
+// H200 that rule without the leaf guard added 60 empty leaves to every adaptive hard case.)
+TEST(ConstructAdaptive, NoLeafCandidateIsKeptUntested) {
+    using construct::detail::keep_children_untested;
+    for (int coarsest = 1; coarsest < 8; ++coarsest)
+        for (int level = 1; level < 8; ++level)
+            for (bool gpu : {false, true}) {
+                if (level >= coarsest) EXPECT_FALSE(keep_children_untested(level, true, coarsest, gpu));
+                EXPECT_FALSE(keep_children_untested(level, false, coarsest, gpu));
+            }
+    EXPECT_TRUE(keep_children_untested(0, true, 1, false)) << "the root";
+    EXPECT_TRUE(keep_children_untested(1, true, 2, true)) << "the root's children, a GPU";
+    EXPECT_FALSE(keep_children_untested(1, true, 2, false)) << "the root's children, a CPU";
+    EXPECT_FALSE(keep_children_untested(2, true, 5, true));
+}
+
 TEST(ConstructAdaptive, RefusesBadTolerances) {
     const Geometry g = shipped_geometry("spheres");
     for (double t : {-1.0, std::nan(""), double(INFINITY)}) {
