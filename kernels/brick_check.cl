@@ -34,6 +34,9 @@
  * in the neighbours' cells, which check their own. */
 #define INSIDE_LO (2 * APRON - 1)
 #define INSIDE_HI (2 * (SAMPLES - APRON) - 1)
+#if INSIDE_HI > 2 * SAMPLES - 3
+#error "a point inside the cell must not have the last sample of an axis as its lowest corner"
+#endif
 /* The first class: on CPU lanes the even cell centres come first (class_odd); with one lane (GPUs),
  * where a class is a few latency-bound phases of a work-group, all cell centres form one class (on
  * the H200 the extra class made the check 4-8% slower: docs/measurements/roof/d10). */
@@ -117,19 +120,6 @@ inline void class_lanes(sdf_index i, int3 odd, sdf_index* hx, sdf_index* hy, sdf
     *hx = 2 * (i % SAMPLES) + odd.x;
     *hy = 2 * ((i / SAMPLES) % SAMPLES) + odd.y;
     *hz = 2 * (i / (SAMPLES * SAMPLES)) + odd.z;
-}
-
-/* a[index] in every lane (a gather, one lane at a time). */
-inline sdf_real gather_lanes(__local const float* a, sdf_index index) {
-#if SDF_LANES == 1
-    return a[index];
-#else
-    int at[SDF_LANES];
-    float v[SDF_LANES];
-    SDF_REAL_CAT(vstore, SDF_LANES)(index, 0, at);
-    for (uint l = 0; l < SDF_LANES; ++l) v[l] = a[at[l]];
-    return SDF_REAL_CAT(vload, SDF_LANES)(0, v);
-#endif
 }
 
 /* list[min(k + l, count - 1)] in lane l. */
@@ -270,7 +260,6 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
     __local float interp[PHASE_POINTS + SDF_LANES]; /* per point of to_fold: its interpolated value */
     __local float value[PHASE_POINTS + SDF_LANES];  /* per point of to_fold: its folded field */
     __local float deep_cells[VALUES * SDF_LANES];   /* per cell, numbered like its lowest corner: 1 when deep */
-    __local float deep_points[VALUES * SDF_LANES];  /* per point number: its cell's deep_cells */
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     if (passed[brick] == 0u) { /* brick_thin failed it (every work-item returns here) */
@@ -314,16 +303,9 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         store_lanes(select(SDF_SPLAT(0.0f), SDF_SPLAT(1.0f), shallowest - half_step >= far + 0.8660254f * voxel),
                     deep_cells + at);
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    /* A point's cell is the one of its lowest corner, the one below on an axis where that corner is
-     * the last sample: the same in every class, so looked up once here. */
-    for (uint v = lid; v < VALUES; v += wg) {
-        sdf_index hx, hy, hz;
-        class_lanes((int)(v * SDF_LANES) + SDF_LANE_OFFSETS, (int3)(0), &hx, &hy, &hz);
-        const sdf_index cell =
-            min(hx >> 1, CELLS - 1) + SAMPLES * (min(hy >> 1, CELLS - 1) + SAMPLES * min(hz >> 1, CELLS - 1));
-        store_lanes(gather_lanes(deep_cells, cell), deep_points + v * SDF_LANES);
-    }
+    /* A point's cell is the one of its lowest corner, sample i for point i of every class: a point
+     * inside the brick's cell has h <= INSIDE_HI <= 2 S - 3 on each axis, so its lowest corner is
+     * never the last sample of an axis, and deep_cells[i] is its cell's. */
     float mine = 0.0f;
     for (uint k0 = FIRST_CLASS; k0 < 8u; k0 = phase_end(k0)) {
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -343,7 +325,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
                                           hy > INSIDE_HI || hz > INSIDE_HI || /* no point, or outside the cell */
                                           (k == 0u && !even) || (k == 1u && FIRST_CLASS == 0u && even);
                 /* no point, or in a deep cell: skipped (a value with nothing else is not interpolated) */
-                const uint skipped = lane_bits(outside || load_lanes(deep_points + v * SDF_LANES) != 0.0f);
+                const uint skipped = lane_bits(outside || load_lanes(deep_cells + v * SDF_LANES) != 0.0f);
                 if (skipped == (1u << SDF_LANES) - 1u) continue;
                 sdf_real deepest;
                 const sdf_real interpolated = interpolate(stored, v * SDF_LANES, odd, &deepest);
