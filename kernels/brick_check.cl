@@ -203,12 +203,21 @@ inline uint lane_bits(sdf_index c) {
     return (uint)(b2.x | b2.y);
 }
 inline sdf_index lanes_of(uint bits) { return (((sdf_index)((int)bits) >> SDF_LANE_OFFSETS) & 1) != 0; }
-inline float max_lanes(sdf_real v) {
-    float m[SDF_LANES];
-    sdf_spill_lanes(v, m);
-    float r = m[0];
-    for (uint l = 1; l < SDF_LANES; ++l) r = fmax(r, m[l]);
-    return r;
+inline float max_lanes(sdf_real v) { /* halves, as lane_bits: the maximum does not depend on the order */
+#if SDF_LANES == 16
+    const float8 m8 = fmax(v.lo, v.hi);
+    const float4 m4 = fmax(m8.lo, m8.hi);
+#elif SDF_LANES == 8
+    const float4 m4 = fmax(v.lo, v.hi);
+#elif SDF_LANES == 4
+    const float4 m4 = v;
+#endif
+#if SDF_LANES >= 4
+    const float2 m2 = fmax(m4.lo, m4.hi);
+#else
+    const float2 m2 = v;
+#endif
+    return fmax(m2.x, m2.y);
 }
 #endif
 
