@@ -84,7 +84,11 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     ocl::set_args(thin.get(), in_.edits, in_.meshes, lists, bricks, in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
                   in_.plan.cull_radius(level, layout.apron()), children, min_children, masked, out.passed);
-    in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * kGroup1d, kGroup1d);
+    // A CPU core runs a work-group's items one after another, mostly idle on short lists: 16 of them
+    // there (PoCL here: brick_thin 0.40 -> 0.18 ms a build on board, 2.0 -> 1.6 on engraved_slab).
+    // The result is an or over the list: no bit depends on the size.
+    const std::size_t thin_group = in_.device.info().type == "gpu" ? kGroup1d : 16;
+    in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * thin_group, thin_group);
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
     evaluate_samples(in_, masked, lists, n, nullptr, samples, measure::Stage::check, level);
     ocl::set_args(kernel.get(), in_.edits, in_.meshes, lists, bricks, samples, in_.origin.x,
