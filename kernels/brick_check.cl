@@ -241,12 +241,13 @@ __kernel void brick_thin(__global const SdfEdit* edits, __global const float* me
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     SdfBrick b = bricks[brick];
-    if (lid == 0) thin = min_children > 0u && children[brick] < min_children;
+    const int few = min_children > 0u && children[brick] < min_children; /* failed already: no edit read */
+    if (lid == 0) thin = few;
     barrier(CLK_LOCAL_MEM_FENCE);
     const float3 centre = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
                                           (int3)(b.coord[0], b.coord[1], b.coord[2]));
-    if (reaches_thin_edit(edits, meshes, edit_indices + b.edit_offset, b.edit_count, centre, voxel, radius + window,
-                          lid, wg))
+    if (!few && reaches_thin_edit(edits, meshes, edit_indices + b.edit_offset, b.edit_count, centre, voxel,
+                                  radius + window, lid, wg))
         thin = 1;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {

@@ -70,11 +70,13 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     }
     const ocl::Buffer<SdfBrick>& bricks = own_records ? *own_records : levels.parents();
     const ocl::Buffer<cl_uint>& lists = own_lists ? *own_lists : levels.lists();
-    ocl::Buffer<SdfBrick> counted = allocate<SdfBrick>(in_.device, last ? n : 1, "the counted bricks");
-    ocl::Buffer<cl_uint> children = allocate<cl_uint>(in_.device, last ? n : 1, "the checked bricks' child counts");
+    std::optional<ocl::Buffer<SdfBrick>> counted;
+    std::optional<ocl::Buffer<cl_uint>> children;
     if (last) {
-        counted.copy_from(levels.parents());
-        levels.count_children(level, counted, children);
+        counted.emplace(allocate<SdfBrick>(in_.device, n, "the counted bricks"));
+        children.emplace(allocate<cl_uint>(in_.device, n, "the checked bricks' child counts"));
+        counted->copy_from(levels.parents());
+        levels.count_children(level, *counted, *children);
     }
     const cl_uint min_children = last ? 2u : 0u;
     // Those and the bricks that reach a thin edit fail first, and their copies in `masked` have no
@@ -83,7 +85,8 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
     ocl::set_args(thin.get(), in_.edits, in_.meshes, lists, bricks, in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
-                  in_.plan.cull_radius(level, layout.apron()), children, min_children, masked, out.passed);
+                  in_.plan.cull_radius(level, layout.apron()), children ? *children : in_.empty_uints, min_children,
+                  masked, out.passed);
     // A CPU core runs a work-group's items one after another, mostly idle on short lists: 16 of them
     // there (PoCL here: brick_thin 0.40 -> 0.18 ms a build on board, 2.0 -> 1.6 on engraved_slab).
     // The result is an or over the list: no bit depends on the size.
@@ -104,7 +107,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(
         allocate<SdfBrick>(in_.device, n - out.count, fmt::format("the parents of level {}", level + 1)));
     const auto& k = in_.programs;
-    ocl::set_args(k.split_k.get(), bricks, last ? counted : bricks, static_cast<cl_uint>(n),
+    ocl::set_args(k.split_k.get(), bricks, counted ? *counted : bricks, static_cast<cl_uint>(n),
                   out.passed, offsets, *out.leaves, *parents);
     in_.scheduler.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
     if (out.count > 0) {  // the leaves' samples: the leaf evaluation puts them instead of evaluating them
@@ -115,10 +118,10 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
         in_.scheduler.launch(measure::Stage::check, level, k.keep_k.get(), n * kGroup1d, kGroup1d);
         kept_bytes_ += out.samples->bytes();
     }
-    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes() +
-                                                                            counted.bytes() + children.bytes() +
-                                                                            (own_records ? own_records->bytes() : 0) +
-                                                                            kept_bytes_);
+    const auto bytes_of = [](const auto& buffer) -> std::uint64_t { return buffer ? buffer->bytes() : 0; };
+    levels.bytes.scratch =
+        std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes() + bytes_of(counted) +
+                                                          bytes_of(children) + bytes_of(own_records) + kept_bytes_);
     levels.bytes.bricks += out.leaves->bytes() + parents->bytes();
     levels.set_parents(std::move(parents));
     if (last) levels.parents_counted();
