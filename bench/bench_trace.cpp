@@ -60,7 +60,7 @@ void bench_bvh(benchmark::State& state, const std::string& name, double leaf) {
     Prepared& p = prepare(name, leaf);
     for (auto _ : state) {
         measure::Scheduler scheduler(bench::device());
-        const bvh::SceneBvh b = engine().bvh.build(p.scene, p.bricks->builds, scheduler);
+        const bvh::SceneBvh b = engine().bvh.build(p.scene, p.bricks->builds, p.bricks->settings, scheduler);
         state.SetIterationTime(b.device_ms * 1e-3);
     }
     state.counters["bricks"] = static_cast<double>(p.bricks->bricks);

@@ -5,6 +5,10 @@
  *
  *   bvh_morton_bricks  key of every leaf brick: the Morton code of its lattice coordinate (21 bits per
  *                      axis), and a flag when the order is not strictly increasing (never expected).
+ *   bvh_hit_marks      which leaf bricks can hold a hit (a sample at or below the hit threshold); the
+ *                      others, outside the surface everywhere, stay out of the tree.
+ *   bvh_keep           the kept bricks' keys, in order (an exclusive scan of the marks places them),
+ *                      and their brick numbers: the tree's leaf j is brick ids[j].
  *   bvh_hierarchy      n - 1 internal nodes, one work-item each: the node's key range and split, its
  *                      two children (internal or leaf) and the parent links.
  *   bvh_refit          bottom-up from every leaf: each node stores its two children's boxes. A node's
@@ -17,7 +21,7 @@
  *                      become the wide nodes, numbered by an exclusive scan of the marks.
  *   bvh_widen          the 4-wide nodes the tracer walks (SdfBvhWideNode).
  * Node i's children: child[c] >= 0 is internal node child[c] (+ node_offset in the shared array),
- * child[c] < 0 is leaf ~child[c]. */
+ * child[c] < 0 is leaf ~child[c], a brick number (ids[j] for the tree's leaf j). */
 #include "sdf_morton.h"
 
 #define NO_PARENT 0xFFFFFFFFu
@@ -39,13 +43,57 @@ __kernel void bvh_morton_bricks(__global const SdfBrick* bricks, uint n, uint fi
     if (i > 0 && sdf_brick_key(bricks[i - 1], finest, log2b) >= key) atomic_or(flags, BVH_FLAG_UNSORTED);
 }
 
+#define BVH_MARK_GROUP 64
+
+/* marks[b] = 1 when some sample of brick b < n (pool: samples3 values of the format, 0 int8, 1 int16,
+ * 2 float; samples3 a multiple of 8) is at or below threshold (stored units), else 0. The trilinear field between samples that
+ * all lie above it does too, so such a brick holds no hit. `parts` work-items share a brick (a power
+ * of two up to BVH_MARK_GROUP: many on GPUs, where they read its samples side by side; 1 on CPUs,
+ * where a work-item stops at its brick's first low sample). */
+__attribute__((reqd_work_group_size(BVH_MARK_GROUP, 1, 1)))
+__kernel void bvh_hit_marks(__global const uchar* pool, uint n, uint samples3, uint format, float threshold,
+                            uint parts, __global uint* marks) {
+    local uchar low[BVH_MARK_GROUP];
+    const uint lid = get_local_id(0), b = get_global_id(0) / parts, part = get_global_id(0) % parts;
+    int mine = 0;
+    if (b < n) {
+        const size_t first = (size_t)b * samples3;
+        for (uint s = 8u * part; s < samples3 && !mine; s += 8u * parts) { /* samples3: 8^3 or 10^3 */
+            const size_t at = first + s;
+            const float8 v = format == 0u   ? convert_float8(vload8(0, (__global const char*)pool + at))
+                             : format == 1u ? convert_float8(vload8(0, (__global const short*)pool + at))
+                                            : vload8(0, (__global const float*)pool + at);
+            mine = any(v <= (float8)(threshold));
+        }
+    }
+    if (parts == 1u) {
+        if (b < n) marks[b] = (uint)mine;
+        return;
+    }
+    low[lid] = (uchar)mine;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (part != 0u || b >= n) return;
+    uint any = 0u;
+    for (uint k = 0; k < parts; ++k) any |= low[lid + k];
+    marks[b] = any;
+}
+
+/* The marked bricks' keys at their places (at: the exclusive scan of marks), and ids[at[b]] = b. */
+__kernel void bvh_keep(__global const ulong* keys, __global const uint* marks, __global const uint* at, uint n,
+                       __global ulong* kept_keys, __global uint* ids) {
+    const uint b = get_global_id(0);
+    if (b >= n || marks[b] == 0u) return;
+    kept_keys[at[b]] = keys[b];
+    ids[at[b]] = b;
+}
+
 /* Length of the common prefix of keys i and j; -1 when j is outside [0, n). */
 inline int bvh_delta(__global const ulong* keys, int n, int i, int j) {
     if (j < 0 || j >= n) return -1;
     return (int)clz(keys[i] ^ keys[j]);
 }
 
-__kernel void bvh_hierarchy(__global const ulong* keys, uint n_leaves, uint node_offset,
+__kernel void bvh_hierarchy(__global const ulong* keys, __global const uint* ids, uint n_leaves, uint node_offset,
                             __global SdfBvhNode* nodes, __global uint* node_parent, __global uint* leaf_parent) {
     const int i = (int)get_global_id(0);
     const int n = (int)n_leaves;
@@ -79,14 +127,14 @@ __kernel void bvh_hierarchy(__global const ulong* keys, uint n_leaves, uint node
     node.pad[0] = node.pad[1] = 0u;
     const uint me = node_offset + (uint)i;
     if (lo == split) {
-        node.child[0] = ~split;
+        node.child[0] = ~(int)ids[split];
         leaf_parent[split] = me;
     } else {
         node.child[0] = (int)(node_offset + (uint)split);
         node_parent[split] = me;
     }
     if (hi == split + 1) {
-        node.child[1] = ~(split + 1);
+        node.child[1] = ~(int)ids[split + 1];
         leaf_parent[split + 1] = me;
     } else {
         node.child[1] = (int)(node_offset + (uint)(split + 1));
@@ -108,14 +156,14 @@ inline void bvh_store_slot(__global SdfBvhNode* node, int c, const float lo[3], 
 #define BVH_FLAG_REFIT_STUCK 4u
 #define BVH_SPIN_LIMIT (1 << 24)
 
-__kernel void bvh_refit(__global const SdfBounds* leaf_boxes, uint n_leaves, uint node_offset,
+__kernel void bvh_refit(__global const SdfBounds* leaf_boxes, __global const uint* ids, uint n_leaves, uint node_offset,
                         __global SdfBvhNode* nodes, __global const uint* node_parent,
                         __global const uint* leaf_parent, __global uint* arrivals, __global SdfBounds* root_boxes,
                         uint root_slot, __global uint* flags) {
     __global SdfBounds* root_box = root_boxes + root_slot;
     const uint i = get_global_id(0);
     if (i >= n_leaves) return;
-    const SdfBounds leaf = leaf_boxes[i];
+    const SdfBounds leaf = leaf_boxes[ids[i]];
     float lo[3] = {leaf.lo[0], leaf.lo[1], leaf.lo[2]};
     float hi[3] = {leaf.hi[0], leaf.hi[1], leaf.hi[2]};
     if (n_leaves == 1u) { /* no internal node: a root whose two children are this leaf */
@@ -124,13 +172,13 @@ __kernel void bvh_refit(__global const SdfBounds* leaf_boxes, uint n_leaves, uin
             root.lo0[a] = root.lo1[a] = lo[a];
             root.hi0[a] = root.hi1[a] = hi[a];
         }
-        root.child[0] = root.child[1] = ~0;
+        root.child[0] = root.child[1] = ~(int)ids[0];
         root.pad[0] = root.pad[1] = 0u;
         nodes[node_offset] = root;
         *root_box = leaf;
         return;
     }
-    int child = ~(int)i;
+    int child = ~(int)ids[i];
     uint node = leaf_parent[i];
     for (;;) {
         const int c = nodes[node].child[0] == child ? 0 : 1;

@@ -28,7 +28,6 @@
 #define S3 (SAMPLES * SAMPLES * SAMPLES)
 #define BVH_STACK 96              /* a wide node pushes at most 3 slots; a path of a radix tree over 63-bit
                                      keys, at most 63 binary nodes deep, visits at most 32 wide nodes */
-#define SPHERE_EPS 0.01f          /* sphere tracing: hit when the field is below this many voxels */
 #define SPHERE_MAX_STEPS 64       /* sphere tracing: steps per brick */
 #define ROOT_ITERATIONS 8         /* analytic: regula falsi (Illinois) iterations per root */
 #define HYBRID_NEAR 1.0f          /* hybrid: sphere steps while the field is above this many voxels */
@@ -253,7 +252,7 @@ inline float tr_brick(__global const sample_t* brick, float3 lo, float3 o, float
 #if METHOD == 0
     /* Sphere tracing: the field (stored units, to voxels by 1 / voxel_to_stored) bounds the step. */
     const float to_t = len_scale / (inv_voxel * voxel_to_stored); /* stored units -> t */
-    const float eps = SPHERE_EPS * voxel_to_stored;
+    const float eps = SDF_SPHERE_EPS * voxel_to_stored;
     float t = t0, t_prev = t0, f_prev = 0.0f;
     for (int i = 0; i < SPHERE_MAX_STEPS; ++i) {
         const float f = tr_field(brick, s0 + (t - t0) * ds);

@@ -188,6 +188,13 @@ typedef struct SdfBrickGeometry {
     sdf_u32 pad[3];
 } SdfBrickGeometry;
 
+/* Sphere tracing's hit test: the field at or below this many voxels is a hit. Every tracing method
+ * needs the trilinear field at or below it for a hit (the others at or below 0), so a brick whose
+ * samples all lie above SDF_HIT_MARGIN times it (stored units; the margin covers rounding) holds no
+ * hit, and the BVH leaves it out. */
+#define SDF_SPHERE_EPS 0.01f
+#define SDF_HIT_MARGIN 2.0f
+
 /* Shaded mode (kernels/shade.cl): Blinn-Phong lit by a directional light, with soft shadows and ambient
  * occlusion from secondary rays through the same BVH. */
 typedef struct SdfShading {

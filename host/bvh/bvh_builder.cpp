@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 
@@ -18,6 +19,7 @@ namespace sdfbrick::bvh {
 namespace {
 
 constexpr std::size_t kGroup = 64;
+constexpr std::size_t kMarkGroup = 64;  // BVH_MARK_GROUP (kernels/bvh_build.cl)
 constexpr cl_uint kFlagUnsorted = 1u, kFlagTooLarge = 2u, kFlagStuck = 4u;  // kernels/bvh_build.cl
 constexpr std::size_t kMaxNodes = std::size_t{1} << 29;  // the tracer's stack entries hold node << 2 (sdf_trace.h)
 
@@ -66,11 +68,13 @@ std::uint64_t spread16(std::uint64_t v) {
 
 struct BvhBuilder::Programs {
     ocl::Program program;
-    ocl::Kernel morton, hierarchy, refit, parity, widen;
+    ocl::Kernel morton, hit_marks, keep, hierarchy, refit, parity, widen;
     construct::Scan scan;
     explicit Programs(ocl::Device& d)
         : program(ocl::build_program(d, "bvh_build.cl")),
           morton(ocl::make_kernel(program, "bvh_morton_bricks")),
+          hit_marks(ocl::make_kernel(program, "bvh_hit_marks")),
+          keep(ocl::make_kernel(program, "bvh_keep")),
           hierarchy(ocl::make_kernel(program, "bvh_hierarchy")),
           refit(ocl::make_kernel(program, "bvh_refit")),
           parity(ocl::make_kernel(program, "bvh_parity")),
@@ -90,6 +94,14 @@ struct TreeScratch {
     std::uint64_t bytes() const { return node_parent.bytes() + leaf_parent.bytes() + arrivals.bytes(); }
 };
 
+// Per geometry, before its tree: every brick's key, whether it can hold a hit, and the marks' scan.
+struct LeafScratch {
+    ocl::Buffer<cl_ulong> keys;
+    ocl::Buffer<cl_uint> marks, at;
+    LeafScratch(ocl::Device& d, std::size_t n) : keys(ocl::pooled, d, n), marks(ocl::pooled, d, n), at(ocl::pooled, d, n) {}
+    std::uint64_t bytes() const { return keys.bytes() + marks.bytes() + at.bytes(); }
+};
+
 // The binary nodes that become wide ones: even[i] = 1 at even depth in its tree (bvh_parity), and
 // per tree (slot) how many.
 struct WideMarks {
@@ -99,19 +111,20 @@ struct WideMarks {
 };
 
 void BvhBuilder::build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
-                            const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
+                            const ocl::Buffer<cl_uint>& ids, const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n,
+                            ocl::Buffer<SdfBvhNode>& nodes,
                             std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes,
                             std::size_t slot, ocl::Buffer<cl_uint>& flags, WideMarks& marks) {
     const auto count = static_cast<cl_uint>(n), node_offset = static_cast<cl_uint>(offset);
     const std::vector<cl_uint> zeros(nodes_for(n), 0u);
     scratch.arrivals.write(zeros);
     if (n > 1) {
-        ocl::set_args(programs_->hierarchy.get(), keys, count, node_offset, nodes, scratch.node_parent,
+        ocl::set_args(programs_->hierarchy.get(), keys, ids, count, node_offset, nodes, scratch.node_parent,
                       scratch.leaf_parent);
         const std::size_t global = round_up(n - 1, kGroup);
         scheduler.launch(stage, -1, programs_->hierarchy.get(), global, kGroup);
     }
-    ocl::set_args(programs_->refit.get(), leaf_boxes, count, node_offset, nodes, scratch.node_parent,
+    ocl::set_args(programs_->refit.get(), leaf_boxes, ids, count, node_offset, nodes, scratch.node_parent,
                   scratch.leaf_parent, scratch.arrivals, root_boxes, static_cast<cl_uint>(slot), flags);
     const std::size_t global = round_up(n, kGroup);
     scheduler.launch(stage, -1, programs_->refit.get(), global, kGroup);
@@ -198,51 +211,99 @@ TopLevel order_instances(const Scene& scene, const SceneBvh& bottom, std::size_t
 
 }  // namespace
 
+// One geometry's leaves in its tree: the bricks that can hold a hit, their keys in Morton order and
+// their brick numbers.
+struct KeptLeaves {
+    std::size_t count = 0;
+    std::unique_ptr<ocl::Buffer<cl_ulong>> keys;
+    std::unique_ptr<ocl::Buffer<cl_uint>> ids;
+};
+
+namespace {
+
+// Stored values at or below this may be a hit (sdf_types.h); voxel to stored units as the tracer has it.
+float hit_threshold(const construct::BuildSettings& settings, const construct::GeometryBuild& b) {
+    const float voxel_to_stored = static_cast<float>(settings.voxel()) / settings.layout().dequantise_scale(b.band);
+    return SDF_HIT_MARGIN * SDF_SPHERE_EPS * voxel_to_stored;
+}
+
+}  // namespace
+
+KeptLeaves BvhBuilder::keep_hit_bricks(const construct::GeometryBuild& b, const construct::BuildSettings& settings,
+                                       measure::Scheduler& scheduler, LeafScratch& scratch, ocl::Buffer<cl_uint>& flags) {
+    const std::size_t n = b.leaf_count;
+    KeptLeaves out;
+    if (n == 0) return out;
+    ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), static_cast<cl_uint>(b.levels - 1),
+                  static_cast<cl_uint>(b.branching == 4 ? 2 : 1), scratch.keys, flags);
+    scheduler.launch(measure::Stage::bvh, -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
+    const construct::BrickLayout layout = settings.layout();
+    // A work-group's work-items read one brick's samples side by side on GPUs; on CPUs, where they run
+    // one after another, each has a brick and stops at its first low sample.
+    const std::size_t parts = device_.info().type == "cpu" ? 1 : kMarkGroup;
+    ocl::set_args(programs_->hit_marks.get(), *b.pool, static_cast<cl_uint>(n),
+                  static_cast<cl_uint>(layout.samples_per_brick()), static_cast<cl_uint>(layout.format_code()),
+                  hit_threshold(settings, b), static_cast<cl_uint>(parts), scratch.marks);
+    scheduler.launch(measure::Stage::bvh, -1, programs_->hit_marks.get(), round_up(n * parts, kMarkGroup), kMarkGroup);
+    out.count = programs_->scan.exclusive(scratch.marks, scratch.at, n, scheduler, measure::Stage::bvh, -1);
+    if (out.count == 0) return out;
+    out.keys = std::make_unique<ocl::Buffer<cl_ulong>>(ocl::pooled, device_, out.count);
+    out.ids = std::make_unique<ocl::Buffer<cl_uint>>(ocl::pooled, device_, out.count);
+    ocl::set_args(programs_->keep.get(), scratch.keys, scratch.marks, scratch.at, static_cast<cl_uint>(n), *out.keys,
+                  *out.ids);
+    scheduler.launch(measure::Stage::bvh, -1, programs_->keep.get(), round_up(n, kGroup), kGroup);
+    return out;
+}
+
 std::uint64_t BvhBuilder::build_bottom_levels(std::span<const construct::GeometryBuild> builds,
-                                              measure::Scheduler& scheduler, SceneBvh& out,
-                                              ocl::Buffer<SdfBounds>& root_boxes, ocl::Buffer<cl_uint>& flags) {
-    std::size_t total_nodes = 0, max_leaves = 1;
+                                              const construct::BuildSettings& settings, measure::Scheduler& scheduler,
+                                              SceneBvh& out, ocl::Buffer<SdfBounds>& root_boxes,
+                                              ocl::Buffer<cl_uint>& flags) {
+    std::size_t max_leaves = 1;
+    for (const construct::GeometryBuild& b : builds) max_leaves = std::max<std::size_t>(max_leaves, b.leaf_count);
+    LeafScratch leaf_scratch(device_, max_leaves);
+    std::vector<KeptLeaves> kept;
+    std::size_t total_nodes = 0, max_kept = 1;
     for (const construct::GeometryBuild& b : builds) {
-        total_nodes += nodes_for(b.leaf_count);
-        max_leaves = std::max<std::size_t>(max_leaves, b.leaf_count);
-    }
-    if (total_nodes >= kMaxNodes)
-        throw InputError(fmt::format("the scene's bricks need {} BVH nodes; the tracer addresses fewer than {}",
-                                     total_nodes, kMaxNodes));
-    ocl::Buffer<SdfBvhNode> binary(ocl::pooled, device_, total_nodes);
-    ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, max_leaves);
-    TreeScratch scratch(device_, max_leaves);
-    WideMarks marks(device_, total_nodes, builds.size());
-    std::size_t offset = 0;
-    for (std::size_t g = 0; g < builds.size(); ++g) {
-        const construct::GeometryBuild& b = builds[g];
-        const std::size_t n = b.leaf_count;
-        if (n == 0) continue;
-        ocl::set_args(programs_->morton.get(), *b.leaves, static_cast<cl_uint>(n), static_cast<cl_uint>(b.levels - 1),
-                      static_cast<cl_uint>(b.branching == 4 ? 2 : 1), keys, flags);
-        scheduler.launch(measure::Stage::bvh, -1, programs_->morton.get(), round_up(n, kGroup), kGroup);
-        build_tree(scheduler, measure::Stage::bvh, keys, *b.aabbs, n, binary, offset, scratch, root_boxes, g, flags,
-                   marks);
-        offset += nodes_for(n);
+        kept.push_back(keep_hit_bricks(b, settings, scheduler, leaf_scratch, flags));
+        total_nodes += nodes_for(kept.back().count);
+        max_kept = std::max(max_kept, kept.back().count);
+        out.tree_leaves.push_back(kept.back().count);
     }
     const cl_uint flag = flags.read()[0];
     if (flag & kFlagTooLarge)
         throw SettingError("leaf_size", "a brick coordinate needs more than the 21 bits per axis of the BVH's Morton "
                                         "keys: use a larger leaf_size or fewer levels");
     if (flag & kFlagUnsorted) throw std::logic_error("construction's leaf bricks are not in Morton order");
+    if (total_nodes >= kMaxNodes)
+        throw InputError(fmt::format("the scene's bricks need {} BVH nodes; the tracer addresses fewer than {}",
+                                     total_nodes, kMaxNodes));
+    ocl::Buffer<SdfBvhNode> binary(ocl::pooled, device_, total_nodes);
+    TreeScratch scratch(device_, max_kept);
+    WideMarks marks(device_, total_nodes, builds.size());
+    std::size_t offset = 0;
+    for (std::size_t g = 0; g < builds.size(); ++g) {
+        if (kept[g].count == 0) continue;
+        build_tree(scheduler, measure::Stage::bvh, *kept[g].keys, *kept[g].ids, *builds[g].aabbs, kept[g].count,
+                   binary, offset, scratch, root_boxes, g, flags, marks);
+        offset += nodes_for(kept[g].count);
+    }
     const std::vector<SdfBounds> boxes = root_boxes.read();
     out.geometry_boxes.assign(boxes.begin(), boxes.begin() + static_cast<std::ptrdiff_t>(builds.size()));
     // Every tree's root is its first node, at even depth: its wide index is the marks of the trees before.
     const std::vector<cl_uint> counts = marks.counts.read();
     std::size_t wide_count = 0;
     for (std::size_t g = 0; g < builds.size(); ++g) {
-        out.roots.push_back(builds[g].leaf_count == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(wide_count));
+        out.roots.push_back(kept[g].count == 0 ? SDF_NO_NODE : static_cast<std::uint32_t>(wide_count));
         wide_count += counts[g];
     }
     out.nodes = widen(scheduler, measure::Stage::bvh, binary, marks, wide_count);
     out.node_count = wide_count;
+    std::uint64_t kept_bytes = 0;
+    for (const KeptLeaves& k : kept)
+        if (k.count) kept_bytes += k.keys->bytes() + k.ids->bytes();
     // the binary trees, and the marks and their numbers (the same size)
-    return binary.bytes() + keys.bytes() + scratch.bytes() + 2 * marks.even.bytes();
+    return binary.bytes() + leaf_scratch.bytes() + kept_bytes + scratch.bytes() + 2 * marks.even.bytes();
 }
 
 void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& scheduler, SceneBvh& out,
@@ -251,10 +312,13 @@ void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& schedu
     out.instance_objects = top.objects;
     ocl::Buffer<SdfBvhNode> binary(ocl::pooled, device_, nodes_for(top.instances.size()));
     ocl::Buffer<cl_ulong> keys(ocl::pooled, device_, std::span<const cl_ulong>(top.keys));
+    std::vector<cl_uint> identity(top.instances.size());
+    std::iota(identity.begin(), identity.end(), cl_uint{0});
+    ocl::Buffer<cl_uint> ids(ocl::pooled, device_, std::span<const cl_uint>(identity));
     ocl::Buffer<SdfBounds> boxes(ocl::pooled, device_, std::span<const SdfBounds>(top.boxes));
     TreeScratch scratch(device_, top.instances.size());
     WideMarks marks(device_, binary.size(), slot + 1);  // counted under the tree's slot, as its root box
-    build_tree(scheduler, measure::Stage::tlas, keys, boxes, top.instances.size(), binary, 0, scratch, root_boxes,
+    build_tree(scheduler, measure::Stage::tlas, keys, ids, boxes, top.instances.size(), binary, 0, scratch, root_boxes,
                slot, flags, marks);
     if (flags.read()[0] & kFlagStuck) throw std::logic_error("BVH refit: a sibling's box never became visible");
     out.tlas_node_count = marks.counts.read()[slot];
@@ -262,7 +326,7 @@ void BvhBuilder::build_top_level(const TopLevel& top, measure::Scheduler& schedu
 }
 
 SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
-                           measure::Scheduler& scheduler) {
+                           const construct::BuildSettings& settings, measure::Scheduler& scheduler) {
     const auto wall_start = std::chrono::steady_clock::now();
     if (builds.size() != scene.geometries.size())
         throw std::invalid_argument("BvhBuilder::build: one build per geometry is needed");
@@ -271,7 +335,7 @@ SceneBvh BvhBuilder::build(const Scene& scene, std::span<const construct::Geomet
     const cl_uint zero = 0;
     ocl::Buffer<cl_uint> flags(ocl::pooled, device_, std::span<const cl_uint>(&zero, 1));
     ocl::Buffer<SdfBounds> root_boxes(ocl::pooled, device_, builds.size() + 1);
-    const std::uint64_t scratch_bytes = build_bottom_levels(builds, scheduler, out, root_boxes, flags);
+    const std::uint64_t scratch_bytes = build_bottom_levels(builds, settings, scheduler, out, root_boxes, flags);
     build_top_level(order_instances(scene, out, builds.size()), scheduler, out, root_boxes, builds.size(), flags);
     scheduler.resolve();
     out.device_ms = scheduler.total_ms(first_launch);
@@ -306,9 +370,36 @@ bool contains(const SdfBounds& outer, const SdfBounds& inner) {
 
 }  // namespace
 
-std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes) {
+std::vector<std::uint8_t> hit_bricks(std::span<const std::uint8_t> pool, const construct::BuildSettings& settings,
+                                     const construct::GeometryBuild& b) {
+    const construct::BrickLayout layout = settings.layout();
+    const std::size_t per_brick = layout.samples_per_brick(), bytes = layout.sample_bytes();
+    const double threshold = hit_threshold(settings, b);
+    std::vector<std::uint8_t> out(pool.size() / (per_brick * bytes), 0);
+    for (std::size_t i = 0; i < out.size() * per_brick; ++i) {
+        const std::uint8_t* p = pool.data() + i * bytes;
+        double v = 0.0;
+        if (layout.format == construct::BrickFormat::int8) {
+            v = static_cast<std::int8_t>(*p);
+        } else if (layout.format == construct::BrickFormat::int16) {
+            std::int16_t x;
+            std::memcpy(&x, p, sizeof x);
+            v = x;
+        } else {
+            float x;
+            std::memcpy(&x, p, sizeof x);
+            v = x;
+        }
+        if (v <= threshold) out[i / per_brick] = 1;
+    }
+    return out;
+}
+
+std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root, std::span<const SdfBounds> leaf_boxes,
+                       std::span<const std::uint8_t> in_tree) {
     const std::size_t n = leaf_boxes.size();
-    if (n == 0) return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
+    if (in_tree.size() != n) return "the leaves' marks are not one per leaf";
+    if (std::count(in_tree.begin(), in_tree.end(), 1) == 0) return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
     if (root >= nodes.size()) return fmt::format("root {} is outside the {} nodes", root, nodes.size());
     std::vector<int> seen(n, 0);
     std::vector<std::uint32_t> stack{root};
@@ -322,6 +413,7 @@ std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root
             if (slot.child < 0) {
                 const auto leaf = static_cast<std::size_t>(~slot.child);
                 if (leaf >= n) return fmt::format("node {} names leaf {} of {}", i, leaf, n);
+                if (!in_tree[leaf]) return fmt::format("node {} names leaf {}, which cannot hold a hit", i, leaf);
                 if (seen[leaf]++) return fmt::format("leaf {} is reached twice", leaf);
                 const SdfBounds& b = leaf_boxes[leaf];
                 if (!std::equal(b.lo, b.lo + 3, slot.box.lo) || !std::equal(b.hi, b.hi + 3, slot.box.hi))
@@ -337,7 +429,7 @@ std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root
         }
     }
     for (std::size_t l = 0; l < n; ++l)
-        if (!seen[l]) return fmt::format("leaf {} is not reachable", l);
+        if (in_tree[l] && !seen[l]) return fmt::format("leaf {} is not reachable", l);
     return "";
 }
 

@@ -184,8 +184,10 @@ TreeCheck check_trees(const render::SceneBricks& bricks) {
     const std::vector<SdfBvhWideNode> nodes = bricks.bvh.nodes->read();
     c.digest = Fnv1a64().add_values(std::span<const SdfBvhWideNode>(nodes)).hex();
     for (std::size_t g = 0; g < bricks.builds.size(); ++g) {
-        const std::vector<SdfBounds> boxes = bricks.builds[g].aabbs->read();
-        const std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes);
+        const construct::GeometryBuild& b = bricks.builds[g];
+        const std::vector<SdfBounds> boxes = b.aabbs->read();
+        const std::vector<std::uint8_t> in_tree = bvh::hit_bricks(b.pool->read(), bricks.settings, b);
+        const std::string p = bvh::check_tree(nodes, bricks.bvh.roots[g], boxes, in_tree);
         if (!p.empty()) c.problems += fmt::format("geometry {}: {}; ", bricks.builds[g].name, p);
     }
     return c;

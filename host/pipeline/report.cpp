@@ -1,6 +1,7 @@
 #include "pipeline/report.h"
 
 #include <algorithm>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -309,8 +310,9 @@ RenderFigures render_figures(const Run& run, const RunSpec& spec, const ocl::Dev
     const render::SceneBricks& bricks = run.bricks;
     RenderFigures f;
     f.construction = construction_figures(run);
-    f.bvh = {bricks.bvh.node_count, bricks.bvh.tlas_node_count, bricks.bvh.instance_objects.size(),
-             bricks.bvh.device_ms, bricks.bvh.memory};
+    f.bvh = {bricks.bvh.node_count, bricks.bvh.tlas_node_count,
+             std::accumulate(bricks.bvh.tree_leaves.begin(), bricks.bvh.tree_leaves.end(), std::uint64_t{0}),
+             bricks.bvh.instance_objects.size(), bricks.bvh.device_ms, bricks.bvh.memory};
     if (bricks.combined_pool) f.combined_pool_bytes = bricks.combined_pool->bytes();
     f.voxel_world = bricks.voxel_world;
     f.stages = run.stages;
@@ -350,7 +352,7 @@ nlohmann::json to_json(const RenderFigures& f) {
             {"wall_breakdown_ms", to_json(f.wall)},
             {"captures", {{"warmup", f.warmup}, {"repeat", f.captures}, {"identical", f.identical}}},
             {"bricks", f.construction.bricks},
-            {"bvh", {{"nodes", f.bvh.nodes}, {"tlas_nodes", f.bvh.tlas_nodes}, {"instances", f.bvh.instances},
+            {"bvh", {{"nodes", f.bvh.nodes}, {"tlas_nodes", f.bvh.tlas_nodes}, {"leaves", f.bvh.leaves}, {"instances", f.bvh.instances},
                      {"device_ms", f.bvh.device_ms}}},
             {"memory", f.memory()},
             {"rays_per_second", f.rays_per_second()},
@@ -365,9 +367,9 @@ nlohmann::json to_json(const RenderFigures& f) {
 std::string to_text(const RenderFigures& f, bool kernel_table) {
     const std::string shade =
         f.shade ? fmt::format(", shade {:.3f} ms", measure::stage_median(f.stages, measure::Stage::shade)) : "";
-    std::string s = fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes), trace {:.3f} ms "
+    std::string s = fmt::format("  build {:.3f} ms ({} bricks), bvh {:.3f} ms ({} nodes over {} bricks), trace {:.3f} ms "
                                 "({:.3g} rays/s, {:.1f} node visits and {:.1f} brick steps per ray){}; device {:.3f} ms, {}\n",
-                                f.build_ms.median, f.construction.bricks, f.bvh_ms.median, f.bvh.nodes,
+                                f.build_ms.median, f.construction.bricks, f.bvh_ms.median, f.bvh.nodes, f.bvh.leaves,
                                 f.trace_ms.median, f.rays_per_second(), f.work.node_visits, f.work.brick_steps, shade,
                                 f.total_ms.median, to_text(f.wall));
     for (const render::TraceWarning& w : f.warnings) s += "  warning: " + w.message + "\n";

@@ -115,6 +115,7 @@ std::string to_text(const BuildFigures& f, bool kernel_table);
 
 struct BvhFigures {
     std::uint64_t nodes = 0, tlas_nodes = 0;
+    std::uint64_t leaves = 0;  // bricks in the trees: those that can hold a hit
     std::size_t instances = 0;
     double device_ms = 0.0;  // the last capture's
     Memory memory;

@@ -36,7 +36,7 @@ SceneBricks build_scene_bricks(construct::BrickBuilder& bricks, bvh::BvhBuilder&
 void prepare_tracing(bvh::BvhBuilder& bvh, const Scene& scene, SceneBricks& out, measure::Scheduler& scheduler) {
     ocl::Device& device = scheduler.device();
     const construct::BuildSettings& settings = out.settings;
-    out.bvh = bvh.build(scene, out.builds, scheduler);
+    out.bvh = bvh.build(scene, out.builds, settings, scheduler);
 
     const construct::BrickLayout layout = settings.layout();
     const std::size_t brick_bytes = layout.brick_bytes();

@@ -62,6 +62,7 @@ TEST(PipelineReport, RenderFiguresJsonAndTextAgree) {
     pipeline::RenderFigures f;
     f.construction = one_geometry();
     f.bvh.nodes = 199;
+    f.bvh.leaves = 90;
     f.bvh.memory = {{"bvh nodes", 6368}};
     f.combined_pool_bytes = 4096;
     f.build_ms = measure::spread_of({3.0, 5.0});
@@ -77,8 +78,10 @@ TEST(PipelineReport, RenderFiguresJsonAndTextAgree) {
 
     EXPECT_EQ(j["bricks"], 100);
     EXPECT_EQ(j["bvh"]["nodes"], 199);
+    EXPECT_EQ(j["bvh"]["leaves"], 90);
     EXPECT_EQ(j["build_ms"]["median_ms"], 4.0);
-    EXPECT_NE(text.find("build 4.000 ms (100 bricks), bvh 0.000 ms (199 nodes), trace 2.000 ms"), std::string::npos)
+    EXPECT_NE(text.find("build 4.000 ms (100 bricks), bvh 0.000 ms (199 nodes over 90 bricks), trace 2.000 ms"),
+              std::string::npos)
         << text;
     EXPECT_EQ(j["rays_per_second"], 64.0 * 32 / 2e-3);
     EXPECT_NE(text.find(fmt::format("({:.3g} rays/s", 64.0 * 32 / 2e-3)), std::string::npos) << text;
