@@ -46,19 +46,20 @@ __kernel void bvh_morton_bricks(__global const SdfBrick* bricks, uint n, uint fi
 #define BVH_MARK_GROUP 64
 
 /* marks[b] = 1 when some sample of brick b < n (pool: samples3 values of the format, 0 int8, 1 int16,
- * 2 float; samples3 a multiple of 8) is at or below threshold (stored units), else 0. The trilinear field between samples that
- * all lie above it does too, so such a brick holds no hit. `parts` work-items share a brick (a power
- * of two up to BVH_MARK_GROUP: many on GPUs, where they read its samples side by side; 1 on CPUs,
- * where a work-item stops at its brick's first low sample). */
+ * 2 float; samples3 a multiple of 8) is at or below threshold (stored units), else 0. The trilinear
+ * field between samples that all lie above it does too, so such a brick holds no hit. `parts`
+ * work-items share a brick (a power of two up to BVH_MARK_GROUP: several on GPUs, where they read its
+ * samples side by side; 1 on CPUs, where work-items run one after another); each stops at its first
+ * low sample. */
 __attribute__((reqd_work_group_size(BVH_MARK_GROUP, 1, 1)))
 __kernel void bvh_hit_marks(__global const uchar* pool, uint n, uint samples3, uint format, float threshold,
                             uint parts, __global uint* marks) {
-    local uchar low[BVH_MARK_GROUP];
+    local uint found[BVH_MARK_GROUP]; /* per brick of the work-group */
     const uint lid = get_local_id(0), b = get_global_id(0) / parts, part = get_global_id(0) % parts;
     int mine = 0;
     if (b < n) {
         const size_t first = (size_t)b * samples3;
-        for (uint s = 8u * part; s < samples3 && !mine; s += 8u * parts) { /* samples3: 8^3 or 10^3 */
+        for (uint s = 8u * part; s < samples3 && !mine; s += 8u * parts) {
             const size_t at = first + s;
             const float8 v = format == 0u   ? convert_float8(vload8(0, (__global const char*)pool + at))
                              : format == 1u ? convert_float8(vload8(0, (__global const short*)pool + at))
@@ -70,12 +71,12 @@ __kernel void bvh_hit_marks(__global const uchar* pool, uint n, uint samples3, u
         if (b < n) marks[b] = (uint)mine;
         return;
     }
-    low[lid] = (uchar)mine;
+    const uint slot = lid / parts;
+    if (part == 0u) found[slot] = 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (part != 0u || b >= n) return;
-    uint any = 0u;
-    for (uint k = 0; k < parts; ++k) any |= low[lid + k];
-    marks[b] = any;
+    if (mine) atomic_or(&found[slot], 1u); /* only sets: the result does not depend on order */
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (part == 0u && b < n) marks[b] = found[slot];
 }
 
 /* The marked bricks' keys at their places (at: the exclusive scan of marks), and ids[at[b]] = b. */

@@ -46,7 +46,9 @@ struct WideMarks;
 
 class BvhBuilder {
 public:
-    explicit BvhBuilder(ocl::Device& device);
+    // mark_parts: work-items that share a brick's test for a hit (bvh_hit_marks), a power of two up
+    // to 64; 0 picks by the device (changes no bit).
+    explicit BvhBuilder(ocl::Device& device, std::size_t mark_parts = 0);
     ~BvhBuilder();
 
     // builds[g] is scene.geometries[g] as BrickBuilder built it with settings. A geometry's tree holds
@@ -81,6 +83,7 @@ private:
                     ocl::Buffer<cl_uint>& flags, WideMarks& marks);
     ocl::Device& device_;
     std::unique_ptr<Programs> programs_;
+    std::size_t mark_parts_;
 };
 
 // Per brick of build b's pool (read back to the host), 1 when it can hold a hit (a sample at or below

@@ -117,6 +117,20 @@ TEST(Bvh, RebuildsAreValidAndIdentical) {
     }
 }
 
+// Work-items that share a brick's test (GPUs: several, CPUs: one) give the same tree.
+TEST(Bvh, SharedHitTestsGiveTheSameTree) {
+    const Scene scene = shipped("drops");
+    const Built b = build(scene, settings(0.25));
+    const std::string expected = Fnv1a64().add_values(std::span<const SdfBvhWideNode>(b.bvh.nodes->read())).hex();
+    for (const std::size_t parts : {1, 4, 16, 64}) {
+        bvh::BvhBuilder shared(test::device(), parts);
+        const bvh::SceneBvh t = shared.build(scene, b.builds, b.settings, test::recorder());
+        EXPECT_EQ(Fnv1a64().add_values(std::span<const SdfBvhWideNode>(t.nodes->read())).hex(), expected) << parts;
+        EXPECT_EQ(t.tree_leaves, b.bvh.tree_leaves) << parts;
+    }
+    EXPECT_THROW(bvh::BvhBuilder(test::device(), 3), std::invalid_argument);
+}
+
 // A wide node with three leaf slots and an unused one, then three ways to break it.
 TEST(Bvh, CheckTreeFindsBrokenTrees) {
     const std::vector<SdfBounds> boxes{{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}, {{5, 5, 5}, {6, 6, 6}}};
