@@ -106,7 +106,8 @@ struct TreeScratch {
 struct LeafScratch {
     ocl::Buffer<cl_ulong> keys;
     ocl::Buffer<cl_uint> marks, at;
-    LeafScratch(ocl::Device& d, std::size_t n) : keys(ocl::pooled, d, n), marks(ocl::pooled, d, n), at(ocl::pooled, d, n) {}
+    LeafScratch(ocl::Device& d, std::size_t n)
+        : keys(ocl::pooled, d, n), marks(ocl::pooled, d, n), at(ocl::pooled, d, n) {}
     std::uint64_t bytes() const { return keys.bytes() + marks.bytes() + at.bytes(); }
 };
 
@@ -405,7 +406,8 @@ std::string check_tree(std::span<const SdfBvhWideNode> nodes, std::uint32_t root
                        std::span<const std::uint8_t> in_tree) {
     const std::size_t n = leaf_boxes.size();
     if (in_tree.size() != n) return "the leaves' marks are not one per leaf";
-    if (std::count(in_tree.begin(), in_tree.end(), 1) == 0) return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
+    if (std::count(in_tree.begin(), in_tree.end(), 1) == 0)
+        return root == SDF_NO_NODE ? "" : "a tree without leaves has a root";
     if (root >= nodes.size()) return fmt::format("root {} is outside the {} nodes", root, nodes.size());
     std::vector<int> seen(n, 0);
     std::vector<std::uint32_t> stack{root};

@@ -55,7 +55,8 @@ public:
     // the bricks that can hold a hit: those with a sample at or below the tracer's hit threshold
     // (SDF_SPHERE_EPS voxels, times SDF_HIT_MARGIN); a brick outside the surface everywhere changes no
     // ray's result. A scene with nothing to trace gets a top level with one instance of a geometry
-    // without bricks (SdfBrickGeometry root SDF_NO_NODE), which every ray misses. Throws InputError when a brick coordinate exceeds the 21 bits per axis
+    // without bricks (SdfBrickGeometry root SDF_NO_NODE), which every ray misses.
+    // Throws InputError when a brick coordinate exceeds the 21 bits per axis
     // of the Morton keys (too many levels).
     // Every launch is recorded in scheduler (the run's launch recorder).
     SceneBvh build(const Scene& scene, std::span<const construct::GeometryBuild> builds,
@@ -78,7 +79,8 @@ private:
                                                        std::size_t count);
     // A tree over n leaves with sorted keys; leaf j is ids[j], its box leaf_boxes[ids[j]].
     void build_tree(measure::Scheduler& scheduler, measure::Stage stage, const ocl::Buffer<cl_ulong>& keys,
-                    const ocl::Buffer<cl_uint>& ids, const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n, ocl::Buffer<SdfBvhNode>& nodes,
+                    const ocl::Buffer<cl_uint>& ids, const ocl::Buffer<SdfBounds>& leaf_boxes, std::size_t n,
+                    ocl::Buffer<SdfBvhNode>& nodes,
                     std::size_t offset, TreeScratch& scratch, ocl::Buffer<SdfBounds>& root_boxes, std::size_t slot,
                     ocl::Buffer<cl_uint>& flags, WideMarks& marks);
     ocl::Device& device_;
