@@ -1,4 +1,4 @@
-// Stage "bvh" (docs/tracing.md): a linear BVH (Karras 2012) per geometry over its leaf bricks,
+// Stage "bvh" (docs/tracing.md): a linear BVH (Karras 2012) per geometry over its leaf bricks that can hold a hit,
 // built and refit on the device directly from construction's Morton order (kernels/bvh_build.cl), and
 // a top level over the object instances, so instances of one geometry share its bricks and tree.
 // The top level's few keys are computed and sorted on the host; its tree is built by the same kernels.
