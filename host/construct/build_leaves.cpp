@@ -27,10 +27,18 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
                               return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
                                      (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
                           });
+    // The primitives and operations the edits use: the kernel compiles the folds of these alone (a
+    // number past the masks' bits, never in a validated scene, keeps every fold).
+    cl_uint prims = 0, ops = 0;
+    for (const SdfEdit& e : in.edits_host) {
+        prims |= e.primitive < 32 ? 1u << e.primitive : ~0u;
+        ops |= e.op < 32 ? 1u << e.op : ~0u;
+    }
     const ocl::Program program = ocl::build_program(
         in.device, "brick_evaluate.cl",
-        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={}", layout.defines(),
-                    lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0));
+        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} -DEVAL_PRIMS={}u "
+                    "-DEVAL_OPS={}u",
+                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0, prims, ops));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
     ocl::set_args(kernel.get(), in.edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
