@@ -196,6 +196,22 @@ TEST(ConstructBuild, MixedGeometryMatchesReferenceFloatOctree) {
     s.branching = 2;
     check_against_reference(mixed_geometry(), s);
 }
+// Every primitive and operation in lists long enough to branch once per edit, where the kernel
+// compiles only the folds of the primitives and operations the geometry uses: three shifted copies
+// of the mixed geometry, with one lane (the GPUs' path, far edits skipped) and the device's lanes.
+TEST(ConstructBuild, LongMixedListsMatchReference) {
+    Geometry g = mixed_geometry();
+    const std::vector<Edit> one = g.edits;
+    for (const double shift : {0.03, -0.05})
+        for (Edit e : one) {
+            e.transform.translation += glm::dvec3(shift, 0.0, -shift);
+            g.edits.push_back(e);
+        }
+    BuildSettings s = settings(0.125);
+    check_against_reference(g, s);
+    s.eval_lanes = 1;
+    check_against_reference(g, s);
+}
 TEST(ConstructBuild, SpheresMatchReference) { check_against_reference(shipped_geometry("spheres"), settings(0.0625)); }
 TEST(ConstructBuild, DropsCornerMatchesReference) { check_against_reference(drops_subset(48), settings(0.125)); }
 
