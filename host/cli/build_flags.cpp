@@ -35,6 +35,10 @@ void BuildFlags::add_to(CLI::App* cmd) {
     cmd->add_option("--guard", s.guard, "saturation C = band + guard * largest blend radius (see docs/construction.md)")->capture_default_str();
     chunk_ = cmd->add_option("--chunk", s.chunk, "edits staged per __local chunk (16..256; default: tuned for the device, else 64)");
     group_ = cmd->add_option("--group", s.eval_group, "work-group size of the leaf evaluation (default: tuned for the device, else 128)");
+    registers_ = cmd->add_option("--eval-max-registers", s.eval_registers,
+                                 "registers per work-item the leaf evaluation may use, NVIDIA only (default: tuned for "
+                                 "the device, else 0: the compiler's choice; changes no bit)")
+                     ->check(CLI::Range(0, 255));
     cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation: 1, 2, 4, 8 or 16 (default: "
                                               "the native float width on CPU devices, else 1; changes no bit)");
     cmd->add_option("--count-parts", s.count_parts, "work-items per candidate child in the count stage: 1, 2, 4, 8 or 16 "
@@ -57,6 +61,7 @@ void BuildFlags::add_to(CLI::App* cmd) {
                             {"max_leaf_size", "--max-brick-size"}, {"levels", "--levels"}, {"branching", "--branching"},
                             {"samples", "--samples"}, {"format", "--format"}, {"band_voxels", "--band"},
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
+                            {"eval_registers", "--eval-max-registers"},
                             {"eval_lanes", "--lanes"}, {"count_parts", "--count-parts"},
                             {"count_splits", "--count-splits"}, {"apron_share_edits", "--apron-share-edits"}});
 }
@@ -81,7 +86,11 @@ construct::BuildSettings BuildFlags::resolve() const {
 }
 
 tune::Given BuildFlags::given() const {
-    return {chunk_ != nullptr && chunk_->count() > 0, group_ != nullptr && group_->count() > 0, false};
+    tune::Given g;
+    g.chunk = chunk_ != nullptr && chunk_->count() > 0;
+    g.group = group_ != nullptr && group_->count() > 0;
+    g.eval_registers = registers_ != nullptr && registers_->count() > 0;
+    return g;
 }
 
 void MeasureFlags::add_to(CLI::App* cmd, const char* what) {

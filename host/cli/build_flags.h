@@ -20,8 +20,8 @@ struct BuildFlags {
     bool no_cull = false;
     std::optional<double> tolerance_voxels;
 
-    // Adds --brick-size --levels --branching --samples --format --band --guard --chunk --group --no-cull
-    // --dependencies to cmd.
+    // Adds --brick-size --levels --branching --samples --format --band --guard --chunk --group
+    // --eval-max-registers --no-cull --dependencies to cmd.
     void add_to(CLI::App* cmd);
     // The settings with --format, --no-cull and the adaptive flags applied (--tolerance without
     // --brick-size: the finest size from the tolerance); throws InputError for an unknown format.
@@ -34,6 +34,7 @@ private:
     CLI::Option* tolerance_ = nullptr;
     CLI::Option* chunk_ = nullptr;
     CLI::Option* group_ = nullptr;
+    CLI::Option* registers_ = nullptr;
 };
 
 // The value of a --method flag; throws InputError naming the flag.

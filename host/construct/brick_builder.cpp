@@ -46,6 +46,8 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (static_cast<std::size_t>(eval_group) > device.max_work_group_size)
         throw SettingError("eval_group", fmt::format("eval_group {} is larger than the {} work-items per work-group {} "
                                                      "allows", eval_group, device.max_work_group_size, device.name));
+    if (eval_registers < 0 || eval_registers > 255)
+        throw SettingError("eval_registers", fmt::format("eval_registers must lie in 0..255, got {}", eval_registers));
     if (eval_lanes < 0 || eval_lanes > 16 || (eval_lanes & (eval_lanes - 1)) != 0)
         throw SettingError("eval_lanes", fmt::format("eval_lanes must be 1, 2, 4, 8 or 16 (0 = the device's), got {}",
                                                      eval_lanes));

@@ -45,6 +45,9 @@ struct BuildSettings {
     double guard = 2.0;           // C = band + guard * (largest blend radius); see sdf_build.h
     int chunk = 64;               // edits staged per __local chunk (16..256)
     int eval_group = 128;         // work-group size of the leaf evaluation
+    // Registers per work-item the leaf evaluation may use, on NVIDIA's compiler only
+    // (-cl-nv-maxrregcount; changes no bit): 0 = the compiler's choice.
+    int eval_registers = 0;
     // Samples per SIMD value of the leaf evaluation (1, 2, 4, 8 or 16; changes no bit): 0 = the
     // device's native float width on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
     int eval_lanes = 0;

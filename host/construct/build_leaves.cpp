@@ -34,11 +34,13 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
         prims |= e.primitive < 32 ? 1u << e.primitive : ~0u;
         ops |= e.op < 32 ? 1u << e.op : ~0u;
     }
-    const ocl::Program program = ocl::build_program(
-        in.device, "brick_evaluate.cl",
+    std::string options =
         fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} -DEVAL_PRIMS={}u "
                     "-DEVAL_OPS={}u",
-                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0, prims, ops));
+                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0, prims, ops);
+    if (in.settings.eval_registers > 0 && in.device.info().has_extension("cl_nv_compiler_options"))
+        options += fmt::format(" -cl-nv-maxrregcount={}", in.settings.eval_registers);
+    const ocl::Program program = ocl::build_program(in.device, "brick_evaluate.cl", options);
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
     ocl::set_args(kernel.get(), in.edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,

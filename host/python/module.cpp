@@ -67,6 +67,7 @@ std::string argument_of(const std::string& setting) {
     if (setting == "max_leaf_size") return "max_brick_size";
     if (setting == "eval_group") return "group";
     if (setting == "eval_lanes") return "lanes";
+    if (setting == "eval_registers") return "eval_max_registers";
     return setting;
 }
 
@@ -360,6 +361,10 @@ BuildArgs take_build_settings(Kwargs& k) {
     if (const auto v = k.integer("group")) {
         s.eval_group = *v;
         a.given.group = true;
+    }
+    if (const auto v = k.integer("eval_max_registers")) {
+        s.eval_registers = *v;
+        a.given.eval_registers = true;
     }
     if (const auto v = k.integer("lanes")) s.eval_lanes = *v;
     if (const auto v = k.integer("count_parts")) s.count_parts = *v;
@@ -1013,8 +1018,9 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def("__exit__", [](Context& c, const py::args&) { c.close(); })
         .def("build", &Context::build, py::arg("scene"),
              "Builds the scene's bricks: keyword arguments as the report's settings (brick_size, levels, branching, "
-             "samples, format, band_voxels, guard, chunk, group, lanes, count_parts, count_splits, cull, skip_far, "
-             "apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, repeat, warmup, "
+             "samples, format, band_voxels, guard, chunk, group, eval_max_registers, lanes, count_parts, count_splits, "
+             "cull, skip_far, apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, "
+             "repeat, warmup, "
              "reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
         .def("play", &Context::play, py::arg("scene"),
              "Plays the scene's animation (and an edit log: edits=PATH) frame by frame: the report of "

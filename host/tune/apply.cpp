@@ -9,13 +9,17 @@ namespace sdfbrick::tune {
 
 namespace {
 
-// The parameters (by their names in the kernels' declarations) the user gave.
-std::set<std::string> given_params(const Given& g) {
+// The parameters of kernel k (by their names in its declaration) the user gave.
+std::set<std::string> given_params(const Given& g, const TunedKernel& k) {
     std::set<std::string> s;
-    if (g.chunk) s.insert("chunk");
-    if (g.group) s.insert("group");
-    if (g.trace_group) s.insert({"group_x", "group_y"});
-    if (g.trace_registers) s.insert("registers");
+    if (k.name == std::string(kEvaluateKernel)) {
+        if (g.chunk) s.insert("chunk");
+        if (g.group) s.insert("group");
+        if (g.eval_registers) s.insert("registers");
+    } else {
+        if (g.trace_group) s.insert({"group_x", "group_y"});
+        if (g.trace_registers) s.insert("registers");
+    }
     return s;
 }
 
@@ -38,8 +42,10 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
     const Lookup l = db ? db->find(device.name, device.driver_version, device.vendor, k.name) : Lookup{};
     const Config current = k.read(s, t);
     Config want = current;
+    // A parameter that needs an extension the device lacks keeps its one value there.
+    const auto takes = [&](const TunedParam& p) { return p.extension.empty() || device.has_extension(p.extension); };
     for (const TunedParam& p : k.params)
-        if (const auto it = l.params.find(p.name); it != l.params.end() && !given.contains(p.name))
+        if (const auto it = l.params.find(p.name); it != l.params.end() && !given.contains(p.name) && takes(p))
             want[p.name] = it->second;
     std::string note;
     if (want != current) {
@@ -48,8 +54,8 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
         else
             note = fmt::format(" (tuned values not applied: {})", why);
     }
-    const bool all_given =
-        std::all_of(k.params.begin(), k.params.end(), [&](const TunedParam& p) { return given.contains(p.name); });
+    const bool all_given = std::all_of(k.params.begin(), k.params.end(),
+                                       [&](const TunedParam& p) { return given.contains(p.name) || !takes(p); });
     const std::string source = all_given ? "command line" : std::string(to_string(l.source));
     const Config used = k.read(s, t);
     std::string ignored;  // a setting this device ignores, given anyway
@@ -71,11 +77,10 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
 Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Given& given,
                      construct::BuildSettings& settings, render::TraceSettings* trace) {
     Applied out;
-    const std::set<std::string> given_names = given_params(given);
     render::TraceSettings unused;
     for (const TunedKernel* k : tuned_kernels()) {
         if (k->work == pipeline::Work::trace && !trace) continue;
-        const KernelApplied a = apply_kernel(*k, db, device, given_names, settings, trace ? *trace : unused);
+        const KernelApplied a = apply_kernel(*k, db, device, given_params(given, *k), settings, trace ? *trace : unused);
         out.record[k->name] = a.record;
         out.text += (out.text.empty() ? "tuning: " : "; ") + a.text;
     }

@@ -19,7 +19,7 @@
 namespace sdfbrick::tune {
 
 struct Given {  // parameters the user set explicitly: never overridden
-    bool chunk = false, group = false, trace_group = false, trace_registers = false;
+    bool chunk = false, group = false, eval_registers = false, trace_group = false, trace_registers = false;
 };
 
 struct Applied {

@@ -22,7 +22,7 @@
 namespace sdfbrick::tune {
 
 // The kernels' names in the database and in reports.
-inline constexpr const char* kEvaluateKernel = "brick_evaluate";  // chunk, group
+inline constexpr const char* kEvaluateKernel = "brick_evaluate";  // chunk, group, registers
 inline constexpr const char* kTraceKernel = "trace_primary";      // group_x, group_y, registers
 
 // One parameter: its candidates are the powers of two lo..hi, or the listed values. With device_capped,

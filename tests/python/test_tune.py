@@ -17,7 +17,7 @@ def test_tune_report(ctx, spheres):
     assert device["device"]["index"] == ctx.devices[0]["index"]
     (kernel,) = [k for k in device if k != "device"]
     assert len(device[kernel]["evaluated_configurations"]) <= 2
-    assert set(device[kernel]["params"]) == {"chunk", "group"}
+    assert set(device[kernel]["params"]) == {"chunk", "group", "registers"}
     assert lines[0].startswith("device ") and any("best" in line for line in lines)
 
 

@@ -104,7 +104,7 @@ TEST(TuneT4, ImportTakesTheBestValidResultForADeviceWithoutAnEntry) {
     const tune::TuningDb db = tune::TuningDb::load(dir / "db.json", tune::Layers::without_builtin);
     ASSERT_EQ(db.entries().size(), 1u);
     EXPECT_EQ(db.entries()[0].kernel, tune::kEvaluateKernel);
-    EXPECT_EQ(db.entries()[0].params, (tune::Config{{"chunk", 128}, {"group", 64}}));
+    EXPECT_EQ(db.entries()[0].params, (tune::Config{{"chunk", 128}, {"group", 64}, {"registers", 0}}));
     EXPECT_EQ(db.entries()[0].record["source"], "T4");
     const test::CliRun again = test::sdfbrick("tune-import " + (dir / "kt.json").string() + " --kernels evaluate", env);
     ASSERT_EQ(again.status, 0) << again.err;

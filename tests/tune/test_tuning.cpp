@@ -105,7 +105,7 @@ TEST(TuneTuning, ApplyKeepsWhatTheCommandLineGaveAndWhatTheDeviceCannotTake) {
     s = {};
     s.chunk = 16;  // given on the command line
     t = {};
-    a = tune::apply_tuning(&db, gpu, {true, false, true}, s, &t);
+    a = tune::apply_tuning(&db, gpu, {.chunk = true, .trace_group = true}, s, &t);
     EXPECT_EQ(s.chunk, 16);
     EXPECT_EQ(s.eval_group, 256);
     EXPECT_EQ(t.group_x, render::TraceSettings{}.group_x);
@@ -217,9 +217,9 @@ TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
     EXPECT_EQ(tune::find_kernel("evaluate"), &ev);
     EXPECT_EQ(tune::find_kernel(tune::kTraceKernel), &tr);
     EXPECT_EQ(tune::find_kernel("shade"), nullptr);
-    EXPECT_EQ(ev.space().size(), 30u);  // chunk 16..256 x group 32..1024
+    EXPECT_EQ(ev.space().size(), 120u);  // chunk 16..256 x group 32..1024 x registers 0, 64, 56, 48
     EXPECT_EQ(tr.space().size(), 90u);  // group_x 4..64 x group_y 1..32 x registers 0, 64, 96
-    EXPECT_EQ(ev.default_config(), (tune::Config{{"chunk", 64}, {"group", 128}}));
+    EXPECT_EQ(ev.default_config(), (tune::Config{{"chunk", 64}, {"group", 128}, {"registers", 0}}));
     EXPECT_EQ(tr.default_config(), (tune::Config{{"group_x", 16}, {"group_y", 8}, {"registers", 0}}));
     EXPECT_EQ(ev.objective, (std::vector<measure::Stage>{measure::Stage::count, measure::Stage::evaluate}));
     EXPECT_EQ(tr.objective, std::vector<measure::Stage>{measure::Stage::trace});
@@ -292,6 +292,38 @@ TEST(TuneTuning, ApplyTakesTheRegisterCapUnlessGiven) {
     EXPECT_EQ(t.max_registers, 64);
     EXPECT_NE(a.text.find("registers 64 has no effect: GPU O lacks cl_nv_compiler_options"), std::string::npos)
         << a.text;
+}
+
+// The evaluation's register cap is looked up and given apart from the trace's.
+TEST(TuneTuning, EvaluationRegisterCapIsItsOwnParameter) {
+    tune::TuningDb db(tune::Layers::without_builtin);
+    db.put({"GPU N", "1.0", "Acme", tune::kEvaluateKernel, {{"chunk", 16}, {"group", 64}, {"registers", 56}}, {}});
+    db.put({"GPU N", "1.0", "Acme", tune::kTraceKernel, {{"group_x", 8}, {"group_y", 16}, {"registers", 64}}, {}});
+    ocl::DeviceInfo gpu = fake_device("GPU N", "Acme");
+    gpu.extensions = {"cl_nv_compiler_options"};
+    construct::BuildSettings s;
+    render::TraceSettings t;
+    tune::Applied a = tune::apply_tuning(&db, gpu, {.trace_registers = true}, s, &t);
+    EXPECT_EQ(s.eval_registers, 56) << "the trace's cap given does not hold the evaluation's";
+    EXPECT_EQ(t.max_registers, 0);
+    EXPECT_NE(a.text.find("chunk 16 group 64 registers 56 (device)"), std::string::npos) << a.text;
+
+    s = {};
+    s.eval_registers = 48;
+    a = tune::apply_tuning(&db, gpu, {.eval_registers = true}, s, &t);
+    EXPECT_EQ(s.eval_registers, 48) << "given";
+    EXPECT_EQ(s.chunk, 16);
+    EXPECT_EQ(t.max_registers, 64);
+
+    s = {};
+    a = tune::apply_tuning(&db, fake_device("GPU N", "Acme"), {.chunk = true, .group = true}, s, &t);
+    EXPECT_EQ(s.eval_registers, 0) << "not looked up for a device without the extension";
+    EXPECT_NE(a.text.find("brick_evaluate chunk 64 group 128 (command line)"), std::string::npos)
+        << "chunk and group are all such a device takes: " << a.text;
+
+    s = {};
+    s.eval_registers = 300;
+    EXPECT_THROW(s.validate(gpu), SettingError);
 }
 
 // The tuner measures through the run loop on the test device: both kernels, every configuration
