@@ -107,7 +107,8 @@ SweepRow run_point(const SweepSpec& spec, const SweepPoint& p, DeviceState& stat
     if (!state.executor) state.executor = std::make_unique<pipeline::Executor>(device);
     pipeline::Job job;
     job.settings = tune::settings_for(settings, trace, tuning,
-                                      {p.chunk.has_value(), p.group.has_value(), p.trace_group.has_value()});
+                                      {.chunk = p.chunk.has_value(), .group = p.group.has_value(),
+                                       .trace_group = p.trace_group.has_value()});
     job.warmup = spec.warmup;
     job.repeat = spec.repeat;
     job.brick_digests = false;

@@ -12,6 +12,12 @@ namespace sdfbrick::tune {
 
 namespace {
 
+// " registers N" for a configuration with a register cap, "" without one.
+std::string registers_text(const Config& c) {
+    const int r = c.contains("registers") ? c.at("registers") : 0;
+    return r > 0 ? fmt::format(" registers {}", r) : "";
+}
+
 // A device without limits: BuildSettings::validate against it checks only what holds on every device.
 ocl::DeviceInfo unbounded_device() {
     ocl::DeviceInfo d;
@@ -63,9 +69,7 @@ TunedKernel make_evaluate() {
         s.eval_registers = c.contains("registers") ? c.at("registers") : 0;
     };
     k.describe = [](const Config& c) {
-        const int r = c.contains("registers") ? c.at("registers") : 0;
-        return fmt::format("chunk {} group {}{}", c.at("chunk"), c.at("group"),
-                           r > 0 ? fmt::format(" registers {}", r) : "");
+        return fmt::format("chunk {} group {}{}", c.at("chunk"), c.at("group"), registers_text(c));
     };
     return k;
 }
@@ -97,8 +101,7 @@ TunedKernel make_trace() {
         t.max_registers = c.contains("registers") ? c.at("registers") : 0;
     };
     k.describe = [](const Config& c) {
-        const int r = c.contains("registers") ? c.at("registers") : 0;
-        return fmt::format("{}x{}{}", c.at("group_x"), c.at("group_y"), r > 0 ? fmt::format(" registers {}", r) : "");
+        return fmt::format("{}x{}{}", c.at("group_x"), c.at("group_y"), registers_text(c));
     };
     return k;
 }

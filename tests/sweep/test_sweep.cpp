@@ -12,6 +12,8 @@
 #include "sweep/grid.h"
 #include "sweep/runner.h"
 #include "test_support.h"
+#include "tune/kernels.h"
+#include "tune/tuning_db.h"
 
 namespace sdfbrick {
 namespace {
@@ -365,6 +367,34 @@ TEST(Sweep, RunsPointsOnTheDeviceAndResumes) {
     sweep::ResultCache again(path);
     sweep::run_points(s, points, devices, nullptr, again, [&](const sweep::Progress& p) { cached = p.cached; });
     EXPECT_EQ(cached, 4u);
+}
+
+// Swept values are never replaced by the tuning database: a database entry for the test device's
+// trace group and evaluation chunk leaves the points' own values, and fills the group not swept.
+TEST(Sweep, SweptValuesWinOverTheTuningDatabase) {
+    sweep::SweepSpec s;
+    s.scenes = {std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json"};
+    s.brick_sizes = {0.5};
+    s.chunks = {32};
+    s.trace_groups = {"8x4"};
+    s.width = 32;
+    s.height = 16;
+    s.warmup = 0;
+    s.repeat = 1;
+    s.accuracy = false;
+    ocl::DeviceSet devices = test::open_test_devices();
+    const ocl::DeviceInfo& info = devices[0].info();
+    tune::TuningDb db(tune::Layers::without_builtin);
+    db.put({info.name, info.driver_version, info.vendor, tune::kTraceKernel, {{"group_x", 16}, {"group_y", 2}}, {}});
+    db.put({info.name, info.driver_version, info.vendor, tune::kEvaluateKernel, {{"chunk", 128}, {"group", 32}}, {}});
+    const auto points = sweep::expand(s, {sweep::device_labels(devices).front()});
+    sweep::ResultCache cache(test::temp_dir("sweep-tuned") / "cache.jsonl");
+    const auto rows = sweep::run_points(s, points, devices, &db, cache, nullptr);
+    ASSERT_EQ(rows.size(), 1u);
+    ASSERT_EQ(rows[0].status, "ok") << to_json(rows[0]).dump();
+    EXPECT_EQ(rows[0].trace_group, "8x4");
+    EXPECT_EQ(rows[0].chunk, 32);
+    EXPECT_EQ(rows[0].group, 32) << "not swept: the database's";
 }
 
 // A value the device refuses (a trace work-group larger than any device allows) makes that point a
