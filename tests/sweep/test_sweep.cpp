@@ -369,19 +369,25 @@ TEST(Sweep, RunsPointsOnTheDeviceAndResumes) {
     EXPECT_EQ(cached, 4u);
 }
 
-// Swept values are never replaced by the tuning database: a database entry for the test device's
-// trace group and evaluation chunk leaves the points' own values, and fills the group not swept.
-TEST(Sweep, SweptValuesWinOverTheTuningDatabase) {
+// spheres at 0.5, one timed run of a 32 x 16 image without the accuracy pass.
+sweep::SweepSpec spheres_spec() {
     sweep::SweepSpec s;
     s.scenes = {std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json"};
     s.brick_sizes = {0.5};
-    s.chunks = {32};
-    s.trace_groups = {"8x4"};
     s.width = 32;
     s.height = 16;
     s.warmup = 0;
     s.repeat = 1;
     s.accuracy = false;
+    return s;
+}
+
+// Swept values are never replaced by the tuning database: a database entry for the test device's
+// trace group and evaluation chunk leaves the points' own values, and fills the group not swept.
+TEST(Sweep, SweptValuesWinOverTheTuningDatabase) {
+    sweep::SweepSpec s = spheres_spec();
+    s.chunks = {32};
+    s.trace_groups = {"8x4"};
     ocl::DeviceSet devices = test::open_test_devices();
     const ocl::DeviceInfo& info = devices[0].info();
     tune::TuningDb db(tune::Layers::without_builtin);
@@ -400,15 +406,8 @@ TEST(Sweep, SweptValuesWinOverTheTuningDatabase) {
 // A value the device refuses (a trace work-group larger than any device allows) makes that point a
 // row with status "error" whose text names the sweep key that gave the value; the sweep goes on.
 TEST(Sweep, RefusedValueNamesItsKey) {
-    sweep::SweepSpec s;
-    s.scenes = {std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json"};
-    s.brick_sizes = {0.5};
+    sweep::SweepSpec s = spheres_spec();
     s.trace_groups = {"4096x4096", "8x8"};
-    s.width = 32;
-    s.height = 16;
-    s.warmup = 0;
-    s.repeat = 1;
-    s.accuracy = false;
     ocl::DeviceSet devices = test::open_test_devices();
     const auto points = sweep::expand(s, {sweep::device_labels(devices).front()});
     const std::filesystem::path path = test::temp_dir("sweep-refused") / "cache.jsonl";
