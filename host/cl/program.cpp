@@ -502,6 +502,11 @@ std::optional<CacheSeal> cache_seal(const Device& device, std::string_view kerne
     return CacheSeal{cache->key.first, cache->key.second, program_inputs(device, kernel_file, extra_options).identity};
 }
 
+std::string register_cap_option(const DeviceInfo& device, int registers) {
+    if (registers <= 0 || !device.has_extension("cl_nv_compiler_options")) return "";
+    return fmt::format(" -cl-nv-maxrregcount={}", registers);
+}
+
 Program build_program(Device& device, std::string_view kernel_file, std::string_view extra_options) {
     const auto start = std::chrono::steady_clock::now();
     const auto reuse = [&](const Program& known) {

@@ -29,6 +29,7 @@
 namespace sdfbrick::ocl {
 
 class Device;
+struct DeviceInfo;
 
 inline constexpr const char* kCacheDirEnv = "SDFBRICK_CACHE_DIR";
 
@@ -71,6 +72,11 @@ std::optional<std::filesystem::path> program_cache_dir();
 // usually -D defines. Throws ClError on a failed build: the message names the file, the device, the
 // options, and holds the full build log. Throws std::invalid_argument for a refused option.
 Program build_program(Device& device, std::string_view kernel_file, std::string_view extra_options = "");
+
+// The compiler option that caps a kernel's registers per work-item at `registers` where the device's
+// compiler takes one (NVIDIA's -cl-nv-maxrregcount, cl_nv_compiler_options), with a leading space;
+// "" for 0 or elsewhere. The cap changes where values live, never an operation.
+std::string register_cap_option(const DeviceInfo& device, int registers);
 
 // Throws ClError naming the kernel (and the kernels the program does define) on failure.
 Kernel make_kernel(const Program& program, const char* name);

@@ -19,28 +19,27 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
     const double mean_list = in.settings.cull ? static_cast<double>(lists.size()) / static_cast<double>(count)
                                               : static_cast<double>(in.edits_host.size());
-    // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
-    // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
-    const bool hoist = mean_list >= BuildSettings::kLongList;
-    const bool skip_far = hoist && in.settings.skip_far &&
-                          std::any_of(in.edits_host.begin(), in.edits_host.end(), [](const SdfEdit& e) {
-                              return (e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
-                                     (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT);
-                          });
     // The primitives and operations the edits use: the kernel compiles the folds of these alone (a
-    // number past the masks' bits, never in a validated scene, keeps every fold).
+    // number past the masks' bits, never in a validated scene, keeps every fold). radial: a sphere
+    // or capsule add or subtract among them.
     cl_uint prims = 0, ops = 0;
+    bool radial = false;
     for (const SdfEdit& e : in.edits_host) {
         prims |= e.primitive < 32 ? 1u << e.primitive : ~0u;
         ops |= e.op < 32 ? 1u << e.op : ~0u;
+        radial = radial || ((e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
+                            (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT));
     }
-    std::string options =
+    // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
+    // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
+    const bool hoist = mean_list >= BuildSettings::kLongList;
+    const bool skip_far = hoist && in.settings.skip_far && radial;
+    const ocl::Program program = ocl::build_program(
+        in.device, "brick_evaluate.cl",
         fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} -DEVAL_PRIMS={}u "
                     "-DEVAL_OPS={}u",
-                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0, prims, ops);
-    if (in.settings.eval_registers > 0 && in.device.info().has_extension("cl_nv_compiler_options"))
-        options += fmt::format(" -cl-nv-maxrregcount={}", in.settings.eval_registers);
-    const ocl::Program program = ocl::build_program(in.device, "brick_evaluate.cl", options);
+                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0, prims, ops) +
+            ocl::register_cap_option(in.device.info(), in.settings.eval_registers));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
     ocl::set_args(kernel.get(), in.edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,

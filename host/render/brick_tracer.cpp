@@ -165,10 +165,9 @@ WorkTotals BrickTracer::read_counts(std::size_t groups, std::size_t pixels) {
 }
 
 BrickTracer::Kernels& BrickTracer::kernels(const construct::BuildSettings& b, const TraceSettings& t) {
-    std::string options = fmt::format("{} -DMETHOD={} -DNORMALS={}", b.layout().defines(),
-                                      static_cast<int>(t.method), static_cast<int>(t.normals));
-    if (t.max_registers > 0 && device_.info().has_extension("cl_nv_compiler_options"))
-        options += fmt::format(" -cl-nv-maxrregcount={}", t.max_registers);
+    const std::string options = fmt::format("{} -DMETHOD={} -DNORMALS={}", b.layout().defines(),
+                                            static_cast<int>(t.method), static_cast<int>(t.normals)) +
+                                ocl::register_cap_option(device_.info(), t.max_registers);
     auto& k = cache_[options];
     if (!k) k = std::make_unique<Kernels>(device_, options);
     return *k;

@@ -42,10 +42,10 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
     const Lookup l = db ? db->find(device.name, device.driver_version, device.vendor, k.name) : Lookup{};
     const Config current = k.read(s, t);
     Config want = current;
-    // A parameter that needs an extension the device lacks keeps its one value there.
-    const auto takes = [&](const TunedParam& p) { return p.extension.empty() || device.has_extension(p.extension); };
+    // A parameter the device does not take keeps its one value there.
     for (const TunedParam& p : k.params)
-        if (const auto it = l.params.find(p.name); it != l.params.end() && !given.contains(p.name) && takes(p))
+        if (const auto it = l.params.find(p.name);
+            it != l.params.end() && !given.contains(p.name) && p.applies_to(device))
             want[p.name] = it->second;
     std::string note;
     if (want != current) {
@@ -54,13 +54,14 @@ KernelApplied apply_kernel(const TunedKernel& k, const TuningDb* db, const ocl::
         else
             note = fmt::format(" (tuned values not applied: {})", why);
     }
-    const bool all_given = std::all_of(k.params.begin(), k.params.end(),
-                                       [&](const TunedParam& p) { return given.contains(p.name) || !takes(p); });
+    const bool all_given = std::all_of(k.params.begin(), k.params.end(), [&](const TunedParam& p) {
+        return given.contains(p.name) || !p.applies_to(device);
+    });
     const std::string source = all_given ? "command line" : std::string(to_string(l.source));
     const Config used = k.read(s, t);
     std::string ignored;  // a setting this device ignores, given anyway
     for (const TunedParam& p : k.params)
-        if (!p.extension.empty() && !device.has_extension(p.extension) && used.at(p.name) != p.values.front())
+        if (!p.applies_to(device) && used.at(p.name) != p.values.front())
             ignored += fmt::format(" ({} {} has no effect: {} lacks {})", p.name, used.at(p.name), device.name,
                                    p.extension);
     KernelApplied out{{{"source", source}, {"params", used}},
@@ -80,7 +81,8 @@ Applied apply_tuning(const TuningDb* db, const ocl::DeviceInfo& device, const Gi
     render::TraceSettings unused;
     for (const TunedKernel* k : tuned_kernels()) {
         if (k->work == pipeline::Work::trace && !trace) continue;
-        const KernelApplied a = apply_kernel(*k, db, device, given_params(given, *k), settings, trace ? *trace : unused);
+        const KernelApplied a =
+            apply_kernel(*k, db, device, given_params(given, *k), settings, trace ? *trace : unused);
         out.record[k->name] = a.record;
         out.text += (out.text.empty() ? "tuning: " : "; ") + a.text;
     }

@@ -114,7 +114,7 @@ std::vector<int> TunedParam::candidates(const ocl::DeviceInfo* device) const {
         if (device_capped && device && static_cast<std::size_t>(x) > device->max_work_group_size) break;
         v.push_back(static_cast<int>(x));
     }
-    if (!extension.empty() && device && !device->has_extension(extension)) v.resize(1);
+    if (device && !applies_to(*device)) v.resize(1);
     return v;
 }
 

@@ -36,6 +36,10 @@ struct TunedParam {
     std::vector<int> values;  // instead of lo..hi when not empty
     std::string extension;    // OpenCL extension the setting needs, "" for none
     std::vector<int> candidates(const ocl::DeviceInfo* device) const;  // device null: all of them
+    // Whether device takes the parameter (has its extension); elsewhere it keeps its first value.
+    bool applies_to(const ocl::DeviceInfo& device) const {
+        return extension.empty() || device.has_extension(extension);
+    }
 };
 
 struct TunedKernel {
