@@ -9,7 +9,8 @@
  *   cull_write: the compacted lists; the bricks' edit_offset / edit_count now name them
  * cull_mark and cull_write take `span` bits per work-item (a power of two up to 32): 1 where a level
  * has few (the top levels: few bricks, long lists), so that the device is full, up to a word where it
- * has many (then fewer work-items do more each). */
+ * has many (then fewer work-items do more each). Where a level's bricks are new children that share
+ * their parents' lists, cull_mark_siblings takes their place: one work-group per parent. */
 #include "sdf_build.h"
 
 /* Position of value in the ascending list[0, n), or n when absent. */
@@ -72,6 +73,54 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const float* mes
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (part == 0u && w < total_words) bits[w] = words[slot];
+}
+
+/* The bits of cull_mark, for new children (brick_subdivide: a parent's kept children lie together at
+ * child_offsets[parent], child_counts[parent] of them, and share its list): one work-group per parent.
+ * The list is staged through __local memory in chunks of whole words, each edit read and prepared
+ * once for all the children; a work-item takes one child and one word of a chunk (children fastest,
+ * so the work-items of a word read the same staged edits) and tests its 32 edits. */
+__kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const float* meshes,
+                                 __global const uint* parent_indices, __global const SdfBrick* bricks,
+                                 __global const uint* child_offsets, __global const uint* child_counts,
+                                 float origin_x, float origin_y, float origin_z, float cell,
+                                 float radius, float clamp_c, float magnitude,
+                                 __global const uint* word_offsets, __global uint* bits, __global uint* sources,
+                                 __local SdfPrepared* staged, __local float* limits, uint chunk_words) {
+    const uint parent = get_group_id(0), lid = get_local_id(0), wg = get_local_size(0);
+    const uint kids = child_counts[parent];
+    if (kids == 0u) return; /* the whole work-group */
+    const uint first = child_offsets[parent];
+    const SdfBrick b0 = bricks[first];
+    __global const uint* list = parent_indices + b0.edit_offset;
+    const uint n = b0.edit_count, words = (n + 31u) >> 5;
+    const uint per_chunk = clamp(wg / kids, 1u, chunk_words); /* words a chunk */
+    const uint child = lid % kids, slot = lid / kids; /* the host gives at least B^3 work-items */
+    const uint mine = first + child, out = word_offsets[mine];
+    const SdfBrick b = bricks[mine];
+    const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
+                                     (int3)(b.coord[0], b.coord[1], b.coord[2]));
+    for (uint w0 = 0; w0 < words; w0 += per_chunk) {
+        const uint m = min(per_chunk << 5, n - (w0 << 5));
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (uint j = lid; j < m; j += wg) {
+            const SdfEdit e = edits[list[(w0 << 5) + j]];
+            staged[j] = sdf_prepare(e);
+            limits[j] = sdf_reach_limit(&e, clamp_c, radius, magnitude);
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+        if (slot < per_chunk && w0 + slot < words) {
+            const uint lo = slot << 5, hi = min(lo + 32u, m);
+            uint word = 0;
+            for (uint j = lo; j < hi; ++j) {
+                const SdfPrepared e = staged[j];
+                if (sdf_within_reach((e.kind >> 8) & 0xffu, sdf_prepared_value(&e, meshes, c), limits[j]))
+                    word |= 1u << (j & 31u);
+            }
+            bits[out + w0 + slot] = word;
+            sources[out + w0 + slot] = b0.edit_offset + ((w0 + slot) << 5);
+        }
+    }
 }
 
 /* Per brick: with dependencies on, the dependencies of every edit kept by cull_mark that is smooth

@@ -127,15 +127,22 @@ inline int3 sdf_morton_child(uint i, uint log2b) {
 /* Whether edit e may change F_C anywhere within distance radius of point c, where v is its value at
  * c (1-Lipschitz: the value anywhere in that ball is within radius of v). margin covers the rounding
  * of v here and at the other points (relative to the coordinates' magnitude). NaN keeps the edit. */
-inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
+inline float sdf_reach_limit(const SdfEdit* e, float clamp_c, float radius, float magnitude) {
     const float t = e->transform.translation[0], u = e->transform.translation[1], w = e->transform.translation[2];
     const float reach = fmax(fmax(fabs(t), fabs(u)), fabs(w)) +
                         e->transform.scale * fmax(fmax(fabs(e->params[0]), fabs(e->params[1])),
                                                   fmax(fabs(e->params[2]), fabs(e->params[3])));
     const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
-    const float limit = clamp_c + e->blend + radius + margin;
-    if (e->op == SDF_OP_INTERSECT) return !(v <= -limit);
-    return !(v >= limit);
+    return clamp_c + e->blend + radius + margin;
+}
+
+/* The test of sdf_edit_reaches for an edit of operation op whose limit is sdf_reach_limit. */
+inline int sdf_within_reach(uint op, float v, float limit) {
+    return op == SDF_OP_INTERSECT ? !(v <= -limit) : !(v >= limit);
+}
+
+inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
+    return sdf_within_reach(e->op, v, sdf_reach_limit(e, clamp_c, radius, magnitude));
 }
 
 #endif /* SDFBRICK_SDF_BUILD_H */

@@ -49,6 +49,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
                                                        "--count-parts within the kernel's work-group limit, and on CPUs "
                                                        "as many as the cores at levels with fewer parents; changes no "
                                                        "bit)");
+    cmd->add_option("--cull-siblings", s.cull_siblings,
+                    "the cull stage stages each parent's list once for its new children where the parents have at "
+                    "least this many on average (default 8; 0: never; changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("!--no-skip-far", s.skip_far,
                   "the leaf evaluation evaluates sphere and capsule edits at every sample, also where they cannot "
@@ -63,7 +66,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
                             {"eval_registers", "--eval-max-registers"},
                             {"eval_lanes", "--lanes"}, {"count_parts", "--count-parts"},
-                            {"count_splits", "--count-splits"}, {"apron_share_edits", "--apron-share-edits"}});
+                            {"count_splits", "--count-splits"}, {"cull_siblings", "--cull-siblings"},
+                            {"apron_share_edits", "--apron-share-edits"}});
 }
 
 construct::BuildSettings BuildFlags::resolve() const {

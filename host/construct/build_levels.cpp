@@ -86,7 +86,8 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     const std::uint64_t resident = resident_items(limit);
     CountShape shape;
     const auto per = [&] { return children / shape.splits; };
-    const auto local = [&] { return in_.device.info().local_mem_bytes - per() * sizeof(cl_uint); };
+    // the kept flags, and one word of the marks of changing edits beyond chunk / 32 of them
+    const auto local = [&] { return in_.device.info().local_mem_bytes - 2 * per() * sizeof(cl_uint); };
     const auto values_fit = [&] { return shape.parts == 1 || kMinChunk * (kStaged + per() * sizeof(float)) <= local(); };
     if (in_.settings.count_splits > 0)
         shape.splits = std::min(static_cast<std::size_t>(in_.settings.count_splits), children);  // the root has one
@@ -111,7 +112,7 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
                            fmt::format("count_parts {} with count_splits {} does not fit brick_count's work-group on "
                                        "{} ({} work-items, {} bytes of local memory)",
                                        shape.parts, shape.splits, in_.device.info().name, limit, local()));
-    const std::size_t per_edit = kStaged + (shape.parts > 1 ? per() * sizeof(float) : 0);
+    const std::size_t per_edit = kStaged + (shape.parts > 1 ? per() * sizeof(float) + per() * sizeof(cl_uint) / 32 : 0);
     const std::size_t wanted =
         round_up(static_cast<std::size_t>(std::clamp<std::uint64_t>(mean_list, 1, 256)), kMinChunk);
     shape.chunk = std::min({wanted, std::size_t{256}, local() / per_edit});
@@ -131,6 +132,7 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
     const CountShape shape =
         count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
     const std::size_t per = per_parent / shape.splits, values = shape.parts > 1 ? shape.chunk * per : 1;
+    const std::size_t changes = shape.parts > 1 ? (shape.chunk + 31) / 32 * per : 1;
     const std::size_t split_words = shape.splits > 1 ? 3 * parent_count_ * shape.splits : 1;
     if (split_words_.size() < split_words) split_words_ = allocate<cl_uint>(in_.device, split_words, "the split counts");
     const auto& k = in_.programs;
@@ -141,7 +143,7 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
                   static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},
-                  ocl::LocalMemory{per * sizeof(cl_uint)});
+                  ocl::LocalMemory{changes * sizeof(cl_uint)}, ocl::LocalMemory{per * sizeof(cl_uint)});
     in_.scheduler.launch(measure::Stage::count, level, k.count_k.get(), parent_count_ * per_parent * shape.parts,
                          per * shape.parts);
     if (shape.splits > 1) {
@@ -221,7 +223,7 @@ void Levels::subdivide(int level, std::uint64_t children) {
 void Levels::cull(int level, std::uint64_t children) {
     std::uint64_t entries = children * in_.edits_host.size();
     if (in_.settings.cull && children > 0) {
-        std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, children, in_.plan.cull_saturation(level));
+        std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, children, in_.plan.cull_saturation(level), true);
         if (adaptive_) adaptive_->keep_lists(level - 1, std::move(replaced));
         entries = parent_lists_->size();
     }
@@ -253,7 +255,7 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::recull(int level) {
     ocl::set_args(in_.programs.words_k.get(), *parents_, static_cast<cl_uint>(parent_count_), words_);
     in_.scheduler.launch(measure::Stage::cull, level, in_.programs.words_k.get(), round_up(parent_count_, kGroup1d),
                          kGroup1d);
-    std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, parent_count_, in_.plan.parent_saturation(level));
+    std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, parent_count_, in_.plan.parent_saturation(level), false);
     parent_entries_.back() = parent_lists_->size();
     reculled_ = true;
     return replaced;
@@ -274,7 +276,8 @@ std::uint64_t Levels::bits_per_item(std::uint64_t words, cl_kernel kernel, std::
     return span;
 }
 
-std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_t children, float saturation) {
+std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_t children, float saturation,
+                                                         bool siblings) {
     const auto& k = in_.programs;
     const ocl::Buffer<SdfBrick>& bricks = *parents_;  // this level's bricks (subdivide moved them there)
     const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
@@ -289,16 +292,7 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
                         level, total_words));
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(in_.device, total_words, "the cull bit sets");
     if (sources_.size() < total_words) sources_ = allocate<cl_uint>(in_.device, total_words, "the cull word sources");
-    if (total_words > 0) {
-        const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
-        ocl::set_args(k.mark_k.get(), in_.edits, in_.meshes, parent_lists, bricks, n, static_cast<cl_uint>(total_words),
-                      static_cast<cl_uint>(span), in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
-                      in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
-                      static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
-                      ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
-        in_.scheduler.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words * 32 / span, kGroup1d),
-                             kGroup1d);
-    }
+    if (total_words > 0) cull_mark(level, children, saturation, total_words, siblings);
     const ocl::Buffer<cl_uint>& dep_offsets = deps_ ? deps_->offsets : in_.empty_uints;
     const ocl::Buffer<cl_uint>& dep_indices = deps_ ? deps_->indices : in_.empty_uints;
     if (kept_words_.size() < total_words + 1)
@@ -318,6 +312,36 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     bytes.lists += lists->bytes();
     std::swap(parent_lists_, lists);
     return lists;
+}
+
+// Where a level's new bricks have several siblings each (settings.cull_siblings on average), one work-group per
+// parent tests them all against its list, staged once (cull_mark_siblings); elsewhere (the top levels:
+// few bricks with long lists, and re-culls) cull_mark spreads the words over the device. Both give the
+// same bits.
+void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings) {
+    constexpr std::uint64_t kChunkWords = 8;
+    const auto siblings_from = static_cast<std::uint64_t>(in_.settings.cull_siblings);
+    const auto& k = in_.programs;
+    const float radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
+    const std::size_t per_parent = std::size_t{1} << (3 * level_log2b(level));
+    if (siblings && siblings_from > 0 && n >= siblings_from * parent_count_ &&
+        ocl::kernel_work_group_limit(in_.device, k.mark_siblings_k.get(), "cull_mark_siblings") >= per_parent) {
+        const std::size_t group = std::max(kGroup1d, per_parent);
+        ocl::set_args(k.mark_siblings_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
+                      in_.origin.x, in_.origin.y, in_.origin.z, cell(level), radius, saturation,
+                      static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
+                      ocl::LocalMemory{kChunkWords * 32 * sizeof(SdfEdit)},
+                      ocl::LocalMemory{kChunkWords * 32 * sizeof(cl_float)}, static_cast<cl_uint>(kChunkWords));
+        in_.scheduler.launch(measure::Stage::cull, level, k.mark_siblings_k.get(), parent_count_ * group, group);
+        return;
+    }
+    const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
+    ocl::set_args(k.mark_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, static_cast<cl_uint>(n),
+                  static_cast<cl_uint>(total_words), static_cast<cl_uint>(span), in_.origin.x, in_.origin.y, in_.origin.z,
+                  cell(level), radius, saturation, static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
+                  ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
+    in_.scheduler.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words * 32 / span, kGroup1d),
+                         kGroup1d);
 }
 
 // Keeps the range of this level's bricks that subtrees_ picks; their lists stay where they are.

@@ -94,7 +94,7 @@ inline float float_down(double x) {
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
+    ocl::Kernel count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
         keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
@@ -126,6 +126,7 @@ struct BuildPrograms {
           mask_counts_k(ocl::make_kernel(count, "brick_mask_counts")),
           subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
+          mark_siblings_k(ocl::make_kernel(cull, "cull_mark_siblings")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
@@ -286,7 +287,10 @@ private:
     void subdivide(int level, std::uint64_t children);
     void cull(int level, std::uint64_t children);
     // Culls the lists of this level's n bricks (parents_) at `saturation`; returns the lists replaced.
-    std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation);
+    // siblings: they are the children subdivide just wrote (offsets_ and counts_ place them).
+    std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation, bool siblings);
+    // cull_lists' bits (bits_, sources_) of total_words words.
+    void cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings);
     std::uint64_t keep_subtrees(std::uint64_t children);
     std::uint64_t keep_region(int level, std::uint64_t children);
     std::uint64_t resident_items(std::size_t work_group_limit) const;

@@ -371,6 +371,7 @@ BuildArgs take_build_settings(Kwargs& k) {
     if (const auto v = k.integer("count_splits")) s.count_splits = *v;
     if (const auto v = k.boolean("cull")) s.cull = *v;
     if (const auto v = k.boolean("skip_far")) s.skip_far = *v;
+    if (const auto v = k.integer("cull_siblings")) s.cull_siblings = *v;
     if (const auto v = k.integer("apron_share_edits")) s.apron_share_edits = *v;
     if (const auto v = k.boolean("dependencies")) s.dependencies = *v;
     if (const auto v = k.number("max_brick_size")) s.max_leaf_size = *v;
@@ -1019,7 +1020,7 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def("build", &Context::build, py::arg("scene"),
              "Builds the scene's bricks: keyword arguments as the report's settings (brick_size, levels, branching, "
              "samples, format, band_voxels, guard, chunk, group, eval_max_registers, lanes, count_parts, count_splits, "
-             "cull, skip_far, apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, "
+             "cull, cull_siblings, skip_far, apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, "
              "repeat, warmup, "
              "reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
         .def("play", &Context::play, py::arg("scene"),

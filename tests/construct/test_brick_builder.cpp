@@ -350,8 +350,9 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
 // CPU, and 2 and 16, which compute the values in turn and fold them in one) and its work-groups per
 // parent (count_splits 2 and 8 with 4 parts: each takes a share of the children) change no bit; nor does
 // culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
-// its levels need (one at the top, up to a word where a level has many bricks). Both the lists and
-// the output are compared: long lists at the top levels, smooth and hard edits, branching 2,
+// its levels need (one at the top, up to a word where a level has many bricks); nor does the cull's
+// work-group per parent for its new children (cull_siblings 1: at every level, 0: at none). Both the
+// lists and the output are compared: long lists at the top levels, smooth and hard edits, branching 2,
 // adaptive leaves.
 TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
     const Geometry drops = drops_subset(128), carved = carved_geometry();
@@ -363,13 +364,14 @@ TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
                         {&drops, octree}, {&drops, dependent}, {&carved, adaptive}}) {
         const GeometryBuild automatic = builder().build(*g, s, test::recorder());
         ASSERT_GT(automatic.leaf_count, 0u);
-        for (auto [parts, splits] : {std::pair{2, 0}, {16, 0}, {4, 2}, {4, 8}}) {
+        for (auto [parts, splits, siblings] : {std::tuple{2, 0, 8}, {16, 0, 8}, {4, 2, 8}, {4, 8, 8}, {0, 0, 1}, {0, 0, 0}}) {
             BuildSettings split = s;
             split.count_parts = parts;
             split.count_splits = splits;
+            split.cull_siblings = siblings;
             const GeometryBuild b = builder().build(*g, split, test::recorder());
-            const std::string where =
-                fmt::format("{}, branching {}, count parts {}, splits {}", g->name, s.branching, parts, splits);
+            const std::string where = fmt::format("{}, branching {}, count parts {}, splits {}, cull siblings {}",
+                                                  g->name, s.branching, parts, splits, siblings);
             EXPECT_EQ(construct::list_digest(b), construct::list_digest(automatic)) << where;
             EXPECT_EQ(construct::output_digest(b, split), construct::output_digest(automatic, s)) << where;
         }
@@ -584,6 +586,9 @@ TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
     s = settings(0.125);
     s.count_splits = 3;
     EXPECT_EQ(refused(s), "count_splits");
+    s = settings(0.125);
+    s.cull_siblings = -1;
+    EXPECT_EQ(refused(s), "cull_siblings");
     s = settings(0.125);
     s.band_voxels = 0.0;
     EXPECT_EQ(refused(s), "band_voxels");
