@@ -18,13 +18,13 @@
  * a level has few parents (long lists, few work-groups: bound by latency), the work-group has
  * `parts` work-items per child: they compute the edits' values at the child's centre (which do not
  * depend on the fold) in turn into __local values, and the first folds them in list order, so the
- * bits do not depend on parts. The values also mark, per child, the edits whose combine can change its
- * field (sdf_fold_changes: at most one in several where a child is small beside its parent's list), and
- * the first folds only those, so its serial chain is as long as the edits near the child; the excess,
- * a sum over every edit, is added in list order apart. Where even that leaves the level short of work-items (a work-group
- * holds at most the kernel's limit), a parent's children are split over `splits` work-groups
- * (group = parent * splits + split, children split * per .. split * per + per - 1, per = B^3 / splits),
- * each staging the whole list. Writes the parent's child mask (bit = Morton index) and its child
+ * bits do not depend on parts. The values also mark, per child, the edits whose combine can change
+ * its field (sdf_fold_changes: few where a child is small beside its parent's list), and the first
+ * folds only those, so its serial chain is as long as the edits near the child; the excess, a sum
+ * over every edit, is added in list order apart. Where even that leaves the level short of
+ * work-items (a work-group holds at most the kernel's limit), a parent's children are split over
+ * `splits` work-groups (group = parent * splits + split, children split * per .. split * per + per - 1,
+ * per = B^3 / splits), each staging the whole list. Writes the parent's child mask (bit = Morton index) and its child
  * count; split work-groups write their part to split_words (mask words, count), which
  * brick_count_merge adds up. */
 #include "sdf_build.h"
@@ -90,7 +90,8 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                 const SdfPrepared e = chunk[j];
                 const float v = sdf_prepared_value(&e, meshes, p);
                 values[j * per + mine] = v;
-                if (sdf_fold_changes(folds[j], v, saturation)) atomic_or(&changes[(j >> 5) * per + mine], 1u << (j & 31u));
+                if (sdf_fold_changes(folds[j], v, saturation))
+                    atomic_or(&changes[(j >> 5) * per + mine], 1u << (j & 31u));
             }
             barrier(CLK_LOCAL_MEM_FENCE);
             if (part == 0u) {
