@@ -18,13 +18,10 @@
  * a level has few parents (long lists, few work-groups: bound by latency), the work-group has
  * `parts` work-items per child: they compute the edits' values at the child's centre (which do not
  * depend on the fold) in turn into __local values, and the first folds them in list order, so the
- * bits do not depend on parts. The values also mark, per child, the edits whose combine can change
- * its field (sdf_fold_changes: few where a child is small beside its parent's list), and the first
- * folds only those, so its serial chain is as long as the edits near the child; the excess, a sum
- * over every edit, is added in list order apart. Where even that leaves the level short of
- * work-items (a work-group holds at most the kernel's limit), a parent's children are split over
- * `splits` work-groups (group = parent * splits + split, children split * per .. split * per + per - 1,
- * per = B^3 / splits), each staging the whole list. Writes the parent's child mask (bit = Morton index) and its child
+ * bits do not depend on parts. Where even that leaves the level short of work-items (a work-group
+ * holds at most the kernel's limit), a parent's children are split over `splits` work-groups
+ * (group = parent * splits + split, children split * per .. split * per + per - 1, per = B^3 / splits),
+ * each staging the whole list. Writes the parent's child mask (bit = Morton index) and its child
  * count; split work-groups write their part to split_words (mask words, count), which
  * brick_count_merge adds up. */
 #include "sdf_build.h"
@@ -35,18 +32,6 @@ inline void fold_step(float* field, float* excess, float4 terms, float4 fold, fl
     *field = fmin(fmax(sdf_fold_select(fold, *field, v), -saturation), saturation);
 }
 
-/* Whether an edit of fold parameters fold and value v can change a field in [-saturation, saturation]:
- * false where fold_step would return every such field unchanged, bit for bit. A min (add) of b = +-v
- * leaves field alone where b - field >= k (then w = 0 and min(field, b) = field), which holds for
- * every field <= saturation once b - saturation >= k in float (rounding is monotone); a max (subtract,
- * intersect) likewise where -saturation - b >= k. NaN changes it. */
-inline int sdf_fold_changes(float4 fold, float v, float saturation) {
-    const float b = fold.x * v;
-    if (fold.w == 1.0f) return !(b - saturation >= fold.y);
-    if (fold.w == 2.0f) return !(-saturation - b >= fold.y);
-    return 0;
-}
-
 __kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
@@ -54,7 +39,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                           float magnitude, uint keep_all,
                           __global uint* child_counts, uint splits, __global uint* split_words,
                           __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, uint chunk_size,
-                          __local float* values, __local uint* changes, __local uint* kept) {
+                          __local float* values, __local uint* kept) {
     const uint group = get_group_id(0), parent = group / splits, split = group % splits;
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const uint per = (1u << (3u * log2b)) / splits; /* children of this work-group */
@@ -66,8 +51,6 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
     const int wide = saturation > clamp_c;
     const uint edit_count = keep_all ? 0u : b.edit_count;
     float field = saturation, excess = 0.0f;
-    if (parts > 1u)
-        for (uint i = lid; i < ((chunk_size + 31u) >> 5) * per; i += wg) changes[i] = 0u;
     for (uint base = 0; base < edit_count; base += chunk_size) {
         const uint n = min(chunk_size, edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -88,25 +71,13 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
         } else {
             for (uint j = part; j < n; j += parts) {
                 const SdfPrepared e = chunk[j];
-                const float v = sdf_prepared_value(&e, meshes, p);
-                values[j * per + mine] = v;
-                if (sdf_fold_changes(folds[j], v, saturation))
-                    atomic_or(&changes[(j >> 5) * per + mine], 1u << (j & 31u));
+                values[j * per + mine] = sdf_prepared_value(&e, meshes, p);
             }
             barrier(CLK_LOCAL_MEM_FENCE);
             if (part == 0u) {
-                if (wide) {
 #pragma unroll 4
-                    for (uint j = 0; j < n; ++j) excess += sdf_saturation_excess(terms[j], values[j * per + mine]);
-                }
-                for (uint w = 0; w < ((n + 31u) >> 5); ++w) {
-                    uint word = changes[w * per + mine];
-                    changes[w * per + mine] = 0u;
-                    while (word != 0u) {
-                        const uint j = (w << 5) + (31u - clz(word & (0u - word)));
-                        word &= word - 1u;
-                        fold_step(&field, &excess, terms[j], folds[j], values[j * per + mine], 0, saturation);
-                    }
+                for (uint j = 0; j < n; ++j) {
+                    fold_step(&field, &excess, terms[j], folds[j], values[j * per + mine], wide, saturation);
                 }
             }
         }

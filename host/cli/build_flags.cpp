@@ -50,8 +50,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
                                                        "as many as the cores at levels with fewer parents; changes no "
                                                        "bit)");
     cmd->add_option("--cull-siblings", s.cull_siblings,
-                    "the cull stage stages each parent's list once for its new children where the parents have at "
-                    "least this many on average (default 8; 0: never; changes no bit)");
+                    "the cull stage stages each parent's list once for its new children where the level has at "
+                    "least this many parents per compute unit (default 2; 0: never; changes no bit)");
     cmd->add_flag("--no-cull", no_cull, "evaluate every edit everywhere (must give the same bricks and pool)");
     cmd->add_flag("!--no-skip-far", s.skip_far,
                   "the leaf evaluation evaluates sphere and capsule edits at every sample, also where they cannot "

@@ -63,10 +63,11 @@ struct BuildSettings {
     int count_splits = 0;
     bool cull = true;
     // The cull stage tests a level's new bricks one work-group per parent, its list staged once for
-    // all its children, where the parents have at least this many children on average; elsewhere it
-    // spreads each brick's list over the device (the top levels: few bricks, long lists). 0 = never.
-    // Changes no bit.
-    int cull_siblings = 8;
+    // all its children, where the level has at least this many parents per compute unit (and 8
+    // children or more per parent on average; on GPUs, lists of 256 edits or more); elsewhere it
+    // spreads each brick's list over the device (the top levels: few parents, long lists, which one
+    // work-group each would walk serially). 0 = never. Changes no bit.
+    int cull_siblings = 2;
     // In the leaf evaluation with one lane (GPUs), sphere and capsule edits (adds and subtracts) skip
     // the samples where they cannot change the fold, found from the running value before the square
     // root (kernels/sdf_build.h: sdf_fold_radial). Changes no bit.

@@ -86,8 +86,7 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     const std::uint64_t resident = resident_items(limit);
     CountShape shape;
     const auto per = [&] { return children / shape.splits; };
-    // the kept flags, and one word of the marks of changing edits beyond chunk / 32 of them
-    const auto local = [&] { return in_.device.info().local_mem_bytes - 2 * per() * sizeof(cl_uint); };
+    const auto local = [&] { return in_.device.info().local_mem_bytes - per() * sizeof(cl_uint); };
     const auto values_fit = [&] { return shape.parts == 1 || kMinChunk * (kStaged + per() * sizeof(float)) <= local(); };
     if (in_.settings.count_splits > 0)
         shape.splits = std::min(static_cast<std::size_t>(in_.settings.count_splits), children);  // the root has one
@@ -112,7 +111,7 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
                            fmt::format("count_parts {} with count_splits {} does not fit brick_count's work-group on "
                                        "{} ({} work-items, {} bytes of local memory)",
                                        shape.parts, shape.splits, in_.device.info().name, limit, local()));
-    const std::size_t per_edit = kStaged + (shape.parts > 1 ? per() * sizeof(float) + per() * sizeof(cl_uint) / 32 : 0);
+    const std::size_t per_edit = kStaged + (shape.parts > 1 ? per() * sizeof(float) : 0);
     const std::size_t wanted =
         round_up(static_cast<std::size_t>(std::clamp<std::uint64_t>(mean_list, 1, 256)), kMinChunk);
     shape.chunk = std::min({wanted, std::size_t{256}, local() / per_edit});
@@ -132,7 +131,6 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
     const CountShape shape =
         count_shape(per_parent, (entries + parent_count_ - 1) / std::max<std::size_t>(parent_count_, 1));
     const std::size_t per = per_parent / shape.splits, values = shape.parts > 1 ? shape.chunk * per : 1;
-    const std::size_t changes = shape.parts > 1 ? (shape.chunk + 31) / 32 * per : 1;
     const std::size_t split_words = shape.splits > 1 ? 3 * parent_count_ * shape.splits : 1;
     if (split_words_.size() < split_words) split_words_ = allocate<cl_uint>(in_.device, split_words, "the split counts");
     const auto& k = in_.programs;
@@ -143,7 +141,7 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
                   static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},
-                  ocl::LocalMemory{changes * sizeof(cl_uint)}, ocl::LocalMemory{per * sizeof(cl_uint)});
+                  ocl::LocalMemory{per * sizeof(cl_uint)});
     in_.scheduler.launch(measure::Stage::count, level, k.count_k.get(), parent_count_ * per_parent * shape.parts,
                          per * shape.parts);
     if (shape.splits > 1) {
@@ -314,24 +312,32 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     return lists;
 }
 
-// Where a level's new bricks have several siblings each (settings.cull_siblings on average), one work-group per
-// parent tests them all against its list, staged once (cull_mark_siblings); elsewhere (the top levels:
-// few bricks with long lists, and re-culls) cull_mark spreads the words over the device. Both give the
-// same bits.
+// Where a level has many parents (settings.cull_siblings per compute unit) with several new bricks
+// each, and on GPUs lists of 256 edits or more on average, one work-group per parent tests them all
+// against its list, staged once (cull_mark_siblings); elsewhere cull_mark spreads the words over the
+// device: the top levels (few parents with long lists, which a work-group each would walk serially
+// on a device left mostly idle), re-culls, and on GPUs short lists (as quick either way there). Both
+// give the same bits.
 void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings) {
-    constexpr std::uint64_t kChunkWords = 8;
-    const auto siblings_from = static_cast<std::uint64_t>(in_.settings.cull_siblings);
+    constexpr std::uint64_t kMaxChunkWords = 8, kMinSiblings = 8, kGpuMinWords = 8;
     const auto& k = in_.programs;
     const float radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
     const std::size_t per_parent = std::size_t{1} << (3 * level_log2b(level));
-    if (siblings && siblings_from > 0 && n >= siblings_from * parent_count_ &&
+    const std::uint64_t parents_from =
+        static_cast<std::uint64_t>(in_.settings.cull_siblings) * in_.device.info().compute_units;
+    const bool long_lists = in_.device.info().type != "gpu" || total_words >= kGpuMinWords * n;
+    if (siblings && parents_from > 0 && parent_count_ >= parents_from && n >= kMinSiblings * parent_count_ && long_lists &&
         ocl::kernel_work_group_limit(in_.device, k.mark_siblings_k.get(), "cull_mark_siblings") >= per_parent) {
+        // as many words a chunk as a parent's children and its list use on average (the local memory
+        // beyond them costs occupancy)
         const std::size_t group = std::max(kGroup1d, per_parent);
+        const std::uint64_t chunk_words =
+            std::clamp<std::uint64_t>(std::min(group * parent_count_ / n, (total_words + n - 1) / n), 1, kMaxChunkWords);
         ocl::set_args(k.mark_siblings_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
                       in_.origin.x, in_.origin.y, in_.origin.z, cell(level), radius, saturation,
                       static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
-                      ocl::LocalMemory{kChunkWords * 32 * sizeof(SdfEdit)},
-                      ocl::LocalMemory{kChunkWords * 32 * sizeof(cl_float)}, static_cast<cl_uint>(kChunkWords));
+                      ocl::LocalMemory{chunk_words * 32 * sizeof(SdfEdit)},
+                      ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words));
         in_.scheduler.launch(measure::Stage::cull, level, k.mark_siblings_k.get(), parent_count_ * group, group);
         return;
     }

@@ -351,9 +351,9 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
 // parent (count_splits 2 and 8 with 4 parts: each takes a share of the children) change no bit; nor does
 // culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
 // its levels need (one at the top, up to a word where a level has many bricks); nor does the cull's
-// work-group per parent for its new children (cull_siblings 1: at every level, 0: at none). Both the
-// lists and the output are compared: long lists at the top levels, smooth and hard edits, branching 2,
-// adaptive leaves.
+// work-group per parent for its new children (cull_siblings 1: at every level with a parent per compute
+// unit, 0: at none). Both the lists and the output are compared: long lists at the top levels, smooth
+// and hard edits, branching 2, adaptive leaves.
 TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
     const Geometry drops = drops_subset(128), carved = carved_geometry();
     BuildSettings octree = settings(0.125), dependent = settings(0.125), adaptive = settings(0.0625);
