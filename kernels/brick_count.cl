@@ -8,11 +8,13 @@
  *     sdf_saturation_excess); kept iff |W(centre)| <= threshold + excess, or excess >= reject_slack
  *     (= C - the leaf threshold: then W cannot prove that no leaf below passes).
  * Either way every ancestor of a leaf that passes its test passes its own (docs/construction.md).
- * With keep_all (the host sets it where the level is wide: for the root, the pseudo-parent's only
- * child, and on GPUs for the root's children) every child is kept without a test: the root is the
- * domain itself, and its children are few while the long full list makes their test the slowest
- * of all. A child kept that holds no surface keeps none of its own children at the next level's
- * test, so the leaves are the same.
+ * A parent whose list has at least untested_from edits keeps every child without a test (the host
+ * sets it where the level is wide and cannot hold leaf candidates: 0 for the root, the
+ * pseudo-parent's only child, and on GPUs for the root's children; on GPUs a long list's length
+ * below them; else never): the root is the domain itself, and on a GPU a long list's serial fold
+ * per child is the slowest test of all, while culling the extra children's lists is parallel work.
+ * A child kept that holds no surface keeps none of its own children at the next level's test, so
+ * the leaves are the same.
  * The parent's edits are staged through __local memory in chunks of chunk_size, with the terms of
  * their excess and their combine as data (sdf_fold_params: the fold has no branch per edit). Where
  * a level has few parents (long lists, few work-groups: bound by latency), the work-group has
@@ -36,7 +38,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
                           float threshold, float clamp_c, float saturation, float reject_slack,
-                          float magnitude, uint keep_all,
+                          float magnitude, uint untested_from,
                           __global uint* child_counts, uint splits, __global uint* split_words,
                           __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, uint chunk_size,
                           __local float* values, __local uint* kept) {
@@ -49,6 +51,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
     const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)(1u << log2b) + sdf_morton_child(child, log2b);
     const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
     const int wide = saturation > clamp_c;
+    const int keep_all = b.edit_count >= untested_from;
     const uint edit_count = keep_all ? 0u : b.edit_count;
     float field = saturation, excess = 0.0f;
     for (uint base = 0; base < edit_count; base += chunk_size) {

@@ -49,6 +49,10 @@ void BuildFlags::add_to(CLI::App* cmd) {
                                                        "--count-parts within the kernel's work-group limit, and on CPUs "
                                                        "as many as the cores at levels with fewer parents; changes no "
                                                        "bit)");
+    cmd->add_option("--count-untested", s.count_untested,
+                    "the count keeps a parent's children without a test where its list has at least this many "
+                    "edits, at coarse levels that hold no leaves (default 0: on GPUs the root's children and lists of "
+                    "4096 or more, on CPUs none; changes no leaf)");
     cmd->add_option("--cull-siblings", s.cull_siblings,
                     "the cull stage stages each parent's list once for its new children where the level has at "
                     "least this many parents per compute unit (default 2; 0: never; changes no bit)");
@@ -66,7 +70,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
                             {"guard", "--guard"}, {"chunk", "--chunk"}, {"eval_group", "--group"},
                             {"eval_registers", "--eval-max-registers"},
                             {"eval_lanes", "--lanes"}, {"count_parts", "--count-parts"},
-                            {"count_splits", "--count-splits"}, {"cull_siblings", "--cull-siblings"},
+                            {"count_splits", "--count-splits"}, {"count_untested", "--count-untested"},
+                            {"cull_siblings", "--cull-siblings"},
                             {"apron_share_edits", "--apron-share-edits"}});
 }
 

@@ -39,6 +39,8 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
     if (count_splits < 0 || count_splits > 64 || (count_splits & (count_splits - 1)) != 0)
         throw SettingError("count_splits", fmt::format("count_splits must be a power of two in 1..64 (0 = automatic), got {}",
                                                        count_splits));
+    if (count_untested < 0)
+        throw SettingError("count_untested", fmt::format("count_untested must be 0 or more, got {}", count_untested));
     if (cull_siblings < 0)
         throw SettingError("cull_siblings", fmt::format("cull_siblings must be 0 or more, got {}", cull_siblings));
     if (apron_share_edits < 0)

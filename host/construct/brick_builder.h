@@ -61,6 +61,12 @@ struct BuildSettings {
     // CPUs, at levels with fewer parents than compute units, as many as the units (4 children each
     // at least).
     int count_splits = 0;
+    // The count keeps a parent's children without a test where its list has at least this many
+    // edits, at levels whose fold is wide and whose bricks cannot be leaves (the leaves stay the
+    // same bits; the levels above them hold more bricks). 0 = automatic: on GPUs every child of the
+    // root and, below, lists of 4,096 edits or more (a long list's test is a serial fold per child);
+    // on CPUs none below the root.
+    int count_untested = 0;
     bool cull = true;
     // The cull stage tests a level's new bricks one work-group per parent, its list staged once for
     // all its children, where the level has at least this many parents per compute unit (and 8

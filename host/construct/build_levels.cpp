@@ -118,10 +118,10 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
     return shape;
 }
 
-// Whether the count of `level` keeps every child without a test (brick_count's keep_all).
-bool Levels::keep_untested(int level) const {
-    return keep_children_untested(level, in_.plan.saturation(level) > in_.plan.clamp_c, in_.plan.coarsest_leaf,
-                                  in_.device.info().type == "gpu");
+// The list length from which the count of `level` keeps a parent's children untested.
+std::uint32_t Levels::untested_from(int level) const {
+    return detail::untested_from(level, in_.plan.saturation(level) > in_.plan.clamp_c, in_.plan.coarsest_leaf,
+                                 in_.device.info().type == "gpu", static_cast<std::uint32_t>(in_.settings.count_untested));
 }
 
 void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts) {
@@ -137,7 +137,7 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
     ocl::set_args(k.count_k.get(), in_.edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
                   in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level),
                   in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude),
-                  static_cast<cl_uint>(keep_untested(level) ? 1 : 0), counts,
+                  static_cast<cl_uint>(untested_from(level)), counts,
                   static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},

@@ -67,16 +67,27 @@ inline std::size_t staged_chunk(std::size_t wanted, std::uint64_t local_bytes, s
     return static_cast<std::size_t>(std::min<std::uint64_t>(wanted, (local_bytes - used) / per_edit));
 }
 
-// Whether the count of `level` (its fold wide or not) keeps every child without a test: the root
-// where the fold is wide, and on GPUs the root's children, whose test folds the whole list serially
-// per child, unless they may be leaves (coarsest_leaf: an untested candidate could pass the check
-// and stand where no surface is). A child kept that holds no surface keeps none of its own at the
-// next test, so the leaves are the same. On the H200 (docs/measurements/roof/d24) that took
-// sculpt_dense's count from 9.98-9.99 ms to 6.64-6.66 and edits_65536's from 7.79-7.80 to
-// 4.58-4.59, with the same digests; on PoCL (2 cores) the cull of the root's extra children cost
-// more than the test (sculpt: count and cull 513 -> 526 ms).
-inline bool keep_children_untested(int level, bool wide, int coarsest_leaf, bool gpu) {
-    return wide && (level == 0 || (level == 1 && gpu && level < coarsest_leaf));
+constexpr std::uint32_t kNeverUntested = 0xffffffffu;
+
+// The list length from which the count of `level` keeps a parent's children without a test
+// (brick_count's untested_from; kNeverUntested: none). Only where the fold is wide and the children
+// cannot be leaves (coarsest_leaf: an untested candidate could pass the check and stand where no
+// surface is): the root always; with long_list 0 (automatic), on GPUs the root's children and below
+// them a parent with 4,096 edits or more, whose test folds its whole list serially per child while
+// culling the extra children's lists is parallel work; CPUs test them. A given long_list applies
+// from the root's children down on every device. A child kept that holds no surface keeps none of
+// its own at the next test, so the leaves are the same. On the H200 (docs/measurements/roof/d24)
+// the root's children untested took sculpt_dense's count from 9.98-9.99 ms to 6.64-6.66 and
+// edits_65536's from 7.79-7.80 to 4.58-4.59, with the same digests; on PoCL (2 cores) the cull of
+// the root's extra children cost more than the test (sculpt: count and cull 513 -> 526 ms).
+inline std::uint32_t untested_from(int level, bool wide, int coarsest_leaf, bool gpu, std::uint32_t long_list) {
+    constexpr std::uint32_t kGpuLongList = 4096;
+    if (!wide) return kNeverUntested;
+    if (level == 0) return 0;
+    if (level >= coarsest_leaf) return kNeverUntested;
+    if (long_list > 0) return long_list;
+    if (!gpu) return kNeverUntested;
+    return level == 1 ? 0 : kGpuLongList;
 }
 
 // Rounds a positive double up to the next float (the margins below must not shrink).
@@ -279,7 +290,7 @@ private:
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
     // The count stage of `level` over parents (parent_count_ of them): child masks and counts.
     void count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts);
-    bool keep_untested(int level) const;  // keep_children_untested for this build
+    std::uint32_t untested_from(int level) const;  // detail::untested_from for this build
     std::uint64_t count_and_scan(int level);
     // Refuses (SettingError "leaf_size") projected leaves whose host bytes (settings.host_bytes_per_leaf)
     // exceed the host memory available.

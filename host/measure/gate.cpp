@@ -133,9 +133,9 @@ void check_report(const json& report, const std::string& file) {
 
 // Settings that organise the work and change no bit of the output (docs/construction.md): they may
 // differ between the reports, and the differences are noted.
-constexpr std::array<std::string_view, 13> kWorkSettings{
-    "chunk", "group", "eval_max_registers", "lanes", "count_parts", "count_splits", "cull", "cull_siblings", "skip_far",
-    "apron_share_edits", "dependencies", "repeat", "warmup"};
+constexpr std::array<std::string_view, 14> kWorkSettings{
+    "chunk", "group", "eval_max_registers", "lanes", "count_parts", "count_splits", "count_untested", "cull",
+    "cull_siblings", "skip_far", "apron_share_edits", "dependencies", "repeat", "warmup"};
 
 struct Names {
     const std::string& base;

@@ -369,6 +369,7 @@ BuildArgs take_build_settings(Kwargs& k) {
     if (const auto v = k.integer("lanes")) s.eval_lanes = *v;
     if (const auto v = k.integer("count_parts")) s.count_parts = *v;
     if (const auto v = k.integer("count_splits")) s.count_splits = *v;
+    if (const auto v = k.integer("count_untested")) s.count_untested = *v;
     if (const auto v = k.boolean("cull")) s.cull = *v;
     if (const auto v = k.boolean("skip_far")) s.skip_far = *v;
     if (const auto v = k.integer("cull_siblings")) s.cull_siblings = *v;
@@ -1020,9 +1021,8 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def("build", &Context::build, py::arg("scene"),
              "Builds the scene's bricks: keyword arguments as the report's settings (brick_size, levels, branching, "
              "samples, format, band_voxels, guard, chunk, group, eval_max_registers, lanes, count_parts, count_splits, "
-             "cull, cull_siblings, skip_far, apron_share_edits, dependencies, tolerance, max_brick_size) and tolerance_voxels, time, "
-             "repeat, warmup, "
-             "reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
+             "count_untested, cull, cull_siblings, skip_far, apron_share_edits, dependencies, tolerance, max_brick_size) "
+             "and tolerance_voxels, time, repeat, warmup, reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
         .def("play", &Context::play, py::arg("scene"),
              "Plays the scene's animation (and an edit log: edits=PATH) frame by frame: the report of "
              "`sdfbrick play --json` (frames=, fps= or dt=, start=, work=, digests=, the render and build keywords)")

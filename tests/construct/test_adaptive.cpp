@@ -271,21 +271,26 @@ TEST(ConstructAdaptive, TheCheckStagesWhatLocalMemoryHolds) {
     EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest);
 }
 
-// The count keeps the root's children untested only on GPUs, and never where they may be leaves:
-// an untested candidate of a checked level could pass the check where no surface is. (On the
-// H200 that rule without the leaf guard added 60 empty leaves to every adaptive hard case.)
+// The count keeps children untested below the root only on GPUs (or where asked), and never where
+// they may be leaves: an untested candidate of a checked level could pass the check where no
+// surface is. (On the H200 the root's children untested without the leaf guard added 60 empty
+// leaves to every adaptive hard case.)
 TEST(ConstructAdaptive, NoLeafCandidateIsKeptUntested) {
-    using construct::detail::keep_children_untested;
+    using construct::detail::kNeverUntested;
+    using construct::detail::untested_from;
     for (int coarsest = 1; coarsest < 8; ++coarsest)
         for (int level = 1; level < 8; ++level)
-            for (bool gpu : {false, true}) {
-                if (level >= coarsest) EXPECT_FALSE(keep_children_untested(level, true, coarsest, gpu));
-                EXPECT_FALSE(keep_children_untested(level, false, coarsest, gpu));
-            }
-    EXPECT_TRUE(keep_children_untested(0, true, 1, false)) << "the root";
-    EXPECT_TRUE(keep_children_untested(1, true, 2, true)) << "the root's children, a GPU";
-    EXPECT_FALSE(keep_children_untested(1, true, 2, false)) << "the root's children, a CPU";
-    EXPECT_FALSE(keep_children_untested(2, true, 5, true));
+            for (bool gpu : {false, true})
+                for (std::uint32_t asked : {0u, 16u}) {
+                    if (level >= coarsest) EXPECT_EQ(untested_from(level, true, coarsest, gpu, asked), kNeverUntested);
+                    EXPECT_EQ(untested_from(level, false, coarsest, gpu, asked), kNeverUntested);
+                }
+    EXPECT_EQ(untested_from(0, true, 1, false, 0), 0u) << "the root";
+    EXPECT_EQ(untested_from(1, true, 2, true, 0), 0u) << "the root's children, a GPU";
+    EXPECT_EQ(untested_from(1, true, 2, false, 0), kNeverUntested) << "the root's children, a CPU";
+    EXPECT_EQ(untested_from(2, true, 5, true, 0), 4096u) << "long lists, a GPU";
+    EXPECT_EQ(untested_from(2, true, 5, false, 0), kNeverUntested) << "long lists, a CPU";
+    EXPECT_EQ(untested_from(2, true, 5, false, 16), 16u) << "as asked, a CPU";
 }
 
 TEST(ConstructAdaptive, RefusesBadTolerances) {

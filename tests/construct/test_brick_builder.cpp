@@ -352,8 +352,9 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
 // culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
 // its levels need (one at the top, up to a word where a level has many bricks); nor does the cull's
 // work-group per parent for its new children (cull_siblings 1: at every level with a parent per compute
-// unit, 0: at none). Both the lists and the output are compared: long lists at the top levels, smooth
-// and hard edits, branching 2, adaptive leaves.
+// unit, 0: at none); nor do the children kept untested below parents with long lists (count_untested
+// 16 and 64: more bricks at the coarse levels, the same leaves). Both the lists and the output are
+// compared: long lists at the top levels, smooth and hard edits, branching 2, adaptive leaves.
 TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
     const Geometry drops = drops_subset(128), carved = carved_geometry();
     BuildSettings octree = settings(0.125), dependent = settings(0.125), adaptive = settings(0.0625);
@@ -364,14 +365,17 @@ TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
                         {&drops, octree}, {&drops, dependent}, {&carved, adaptive}}) {
         const GeometryBuild automatic = builder().build(*g, s, test::recorder());
         ASSERT_GT(automatic.leaf_count, 0u);
-        for (auto [parts, splits, siblings] : {std::tuple{2, 0, 8}, {16, 0, 8}, {4, 2, 8}, {4, 8, 8}, {0, 0, 1}, {0, 0, 0}}) {
+        for (auto [parts, splits, siblings, untested] :
+             {std::tuple{2, 0, 8, 0}, {16, 0, 8, 16}, {4, 2, 8, 0}, {4, 8, 8, 64}, {0, 0, 1, 16}, {0, 0, 0, 0}}) {
             BuildSettings split = s;
             split.count_parts = parts;
             split.count_splits = splits;
             split.cull_siblings = siblings;
+            split.count_untested = untested;
             const GeometryBuild b = builder().build(*g, split, test::recorder());
-            const std::string where = fmt::format("{}, branching {}, count parts {}, splits {}, cull siblings {}",
-                                                  g->name, s.branching, parts, splits, siblings);
+            const std::string where =
+                fmt::format("{}, branching {}, count parts {}, splits {}, cull siblings {}, untested from {}", g->name,
+                            s.branching, parts, splits, siblings, untested);
             EXPECT_EQ(construct::list_digest(b), construct::list_digest(automatic)) << where;
             EXPECT_EQ(construct::output_digest(b, split), construct::output_digest(automatic, s)) << where;
         }
@@ -589,6 +593,9 @@ TEST(ConstructBuild, RefusedSettingsAreNamedInLibraryTerms) {
     s = settings(0.125);
     s.cull_siblings = -1;
     EXPECT_EQ(refused(s), "cull_siblings");
+    s = settings(0.125);
+    s.count_untested = -1;
+    EXPECT_EQ(refused(s), "count_untested");
     s = settings(0.125);
     s.band_voxels = 0.0;
     EXPECT_EQ(refused(s), "band_voxels");

@@ -28,8 +28,10 @@ def test_build_settings_round_trip(ctx, spheres):
     assert again["digest"] == first["digest"]
     culled = ctx.build(spheres, brick_size=0.25, format="int16")
     assert culled["digest"] == first["digest"], "culling on and off give the same bricks"
-    split = ctx.build(spheres, brick_size=0.25, format="int16", count_parts=4, count_splits=2, cull_siblings=1)
+    split = ctx.build(spheres, brick_size=0.25, format="int16", count_parts=4, count_splits=2, cull_siblings=1,
+                      count_untested=16)
     assert split["settings"]["count_splits"] == 2 and split["settings"]["cull_siblings"] == 1
+    assert split["settings"]["count_untested"] == 16
     assert split["digest"] == first["digest"], "the count's work-groups change no bit"
 
 
