@@ -76,8 +76,9 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const float* mes
 }
 
 /* The bits of cull_mark, for new children (brick_subdivide: a parent's kept children lie together at
- * child_offsets[parent], child_counts[parent] of them, and share its list): one work-group per parent.
- * The list is staged through __local memory in chunks of whole words, each edit read and prepared
+ * child_offsets[parent], child_counts[parent] of them, and share its list): `splits` work-groups per
+ * parent (group = parent * splits + split), each taking an equal share of the list's words. The
+ * share is staged through __local memory in chunks of whole words, each edit read and prepared
  * once for all the children; a work-item takes one child and one word of a chunk (children fastest,
  * so the work-items of a word read the same staged edits) and tests its 32 edits. */
 __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const float* meshes,
@@ -86,22 +87,24 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
                                  float origin_x, float origin_y, float origin_z, float cell,
                                  float radius, float clamp_c, float magnitude,
                                  __global const uint* word_offsets, __global uint* bits, __global uint* sources,
-                                 __local SdfPrepared* staged, __local float* limits, uint chunk_words) {
-    const uint parent = get_group_id(0), lid = get_local_id(0), wg = get_local_size(0);
+                                 __local SdfPrepared* staged, __local float* limits, uint chunk_words, uint splits) {
+    const uint parent = get_group_id(0) / splits, split = get_group_id(0) % splits;
+    const uint lid = get_local_id(0), wg = get_local_size(0);
     const uint kids = child_counts[parent];
     if (kids == 0u) return; /* the whole work-group */
     const uint first = child_offsets[parent];
     const SdfBrick b0 = bricks[first];
     __global const uint* list = parent_indices + b0.edit_offset;
-    const uint n = b0.edit_count, words = (n + 31u) >> 5;
+    const uint n = b0.edit_count, words = (n + 31u) >> 5, share = (words + splits - 1u) / splits;
+    const uint from = min(words, split * share), to = min(words, from + share);
     const uint per_chunk = clamp(wg / kids, 1u, chunk_words); /* words a chunk */
     const uint child = lid % kids, slot = lid / kids; /* the host gives at least B^3 work-items */
     const uint mine = first + child, out = word_offsets[mine];
     const SdfBrick b = bricks[mine];
     const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
                                      (int3)(b.coord[0], b.coord[1], b.coord[2]));
-    for (uint w0 = 0; w0 < words; w0 += per_chunk) {
-        const uint m = min(per_chunk << 5, n - (w0 << 5));
+    for (uint w0 = from; w0 < to; w0 += per_chunk) {
+        const uint m = min(min(per_chunk, to - w0) << 5, n - (w0 << 5));
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = lid; j < m; j += wg) {
             const SdfEdit e = edits[list[(w0 << 5) + j]];
@@ -109,7 +112,7 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
             limits[j] = sdf_reach_limit(&e, clamp_c, radius, magnitude);
         }
         barrier(CLK_LOCAL_MEM_FENCE);
-        if (slot < per_chunk && w0 + slot < words) {
+        if (slot < per_chunk && w0 + slot < to) {
             const uint lo = slot << 5, hi = min(lo + 32u, m);
             uint word = 0;
             for (uint j = lo; j < hi; ++j) {

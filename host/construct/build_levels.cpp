@@ -313,32 +313,22 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
 }
 
 // Where a level has many parents (settings.cull_siblings per compute unit) with several new bricks
-// each, and on GPUs lists of 256 edits or more on average, one work-group per parent tests them all
-// against its list, staged once (cull_mark_siblings); elsewhere cull_mark spreads the words over the
-// device: the top levels (few parents with long lists, which a work-group each would walk serially
-// on a device left mostly idle), re-culls, and on GPUs short lists (as quick either way there). Both
+// each, and on GPUs lists of 256 edits or more on average, the parents' work-groups test them all
+// against their lists, staged once (mark_siblings); elsewhere cull_mark spreads the words over the
+// device: the top levels (few parents, whose long lists a work-group each would walk serially on a
+// device left mostly idle), re-culls, and on GPUs short lists (as quick either way there). Both
 // give the same bits.
 void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings) {
-    constexpr std::uint64_t kMaxChunkWords = 8, kMinSiblings = 8, kGpuMinWords = 8;
+    constexpr std::uint64_t kMinSiblings = 8, kGpuMinWords = 8;
     const auto& k = in_.programs;
     const float radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
     const std::size_t per_parent = std::size_t{1} << (3 * level_log2b(level));
     const std::uint64_t parents_from =
         static_cast<std::uint64_t>(in_.settings.cull_siblings) * in_.device.info().compute_units;
     const bool long_lists = in_.device.info().type != "gpu" || total_words >= kGpuMinWords * n;
-    if (siblings && parents_from > 0 && parent_count_ >= parents_from && n >= kMinSiblings * parent_count_ && long_lists &&
-        ocl::kernel_work_group_limit(in_.device, k.mark_siblings_k.get(), "cull_mark_siblings") >= per_parent) {
-        // as many words a chunk as a parent's children and its list use on average (the local memory
-        // beyond them costs occupancy)
-        const std::size_t group = std::max(kGroup1d, per_parent);
-        const std::uint64_t chunk_words =
-            std::clamp<std::uint64_t>(std::min(group * parent_count_ / n, (total_words + n - 1) / n), 1, kMaxChunkWords);
-        ocl::set_args(k.mark_siblings_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
-                      in_.origin.x, in_.origin.y, in_.origin.z, cell(level), radius, saturation,
-                      static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
-                      ocl::LocalMemory{chunk_words * 32 * sizeof(SdfEdit)},
-                      ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words));
-        in_.scheduler.launch(measure::Stage::cull, level, k.mark_siblings_k.get(), parent_count_ * group, group);
+    if (siblings && parents_from > 0 && parent_count_ >= parents_from && n >= kMinSiblings * parent_count_ &&
+        long_lists && siblings_limit() >= per_parent) {
+        mark_siblings(level, n, saturation, total_words, std::max(kGroup1d, per_parent));
         return;
     }
     const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
@@ -348,6 +338,32 @@ void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64
                   ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
     in_.scheduler.launch(measure::Stage::cull, level, k.mark_k.get(), round_up(total_words * 32 / span, kGroup1d),
                          kGroup1d);
+}
+
+std::size_t Levels::siblings_limit() const {
+    return ocl::kernel_work_group_limit(in_.device, in_.programs.mark_siblings_k.get(), "cull_mark_siblings");
+}
+
+// cull_mark_siblings over this level's n new bricks: as many words a chunk as a parent's children and
+// its list use on average (the local memory beyond them costs occupancy), and as many work-groups a
+// parent, each with a share of its words, as fill the device, up to a chunk each on average (one
+// parent's long list would otherwise hold the level back).
+void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t group) {
+    constexpr std::uint64_t kMaxChunkWords = 8, kMaxSplits = 64;
+    const auto& k = in_.programs;
+    const std::uint64_t mean_words = (total_words + n - 1) / n, groups = parent_count_ * group;
+    const std::uint64_t chunk_words =
+        std::clamp<std::uint64_t>(std::min(group * parent_count_ / n, mean_words), 1, kMaxChunkWords);
+    const std::uint64_t fill = (resident_items(siblings_limit()) + groups - 1) / groups;
+    const std::uint64_t splits = std::clamp<std::uint64_t>(std::min(fill, mean_words / chunk_words), 1, kMaxSplits);
+    ocl::set_args(k.mark_siblings_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
+                  in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
+                  in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
+                  static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
+                  ocl::LocalMemory{chunk_words * 32 * sizeof(SdfEdit)},
+                  ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words),
+                  static_cast<cl_uint>(splits));
+    in_.scheduler.launch(measure::Stage::cull, level, k.mark_siblings_k.get(), parent_count_ * splits * group, group);
 }
 
 // Keeps the range of this level's bricks that subtrees_ picks; their lists stay where they are.

@@ -302,6 +302,10 @@ private:
     std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation, bool siblings);
     // cull_lists' bits (bits_, sources_) of total_words words.
     void cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings);
+    // cull_mark_siblings for cull_mark (group: work-items per parent, at least its children), and its
+    // work-group limit.
+    void mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t group);
+    std::size_t siblings_limit() const;
     std::uint64_t keep_subtrees(std::uint64_t children);
     std::uint64_t keep_region(int level, std::uint64_t children);
     std::uint64_t resident_items(std::size_t work_group_limit) const;
