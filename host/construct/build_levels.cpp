@@ -121,7 +121,8 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
 // The list length from which the count of `level` keeps a parent's children untested.
 std::uint32_t Levels::untested_from(int level) const {
     return detail::untested_from(level, in_.plan.saturation(level) > in_.plan.clamp_c, in_.plan.coarsest_leaf,
-                                 in_.device.info().type == "gpu", static_cast<std::uint32_t>(in_.settings.count_untested));
+                                 in_.device.info().type == "gpu",
+                                 static_cast<std::uint32_t>(in_.settings.count_untested));
 }
 
 void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uint>& counts) {
@@ -221,7 +222,8 @@ void Levels::subdivide(int level, std::uint64_t children) {
 void Levels::cull(int level, std::uint64_t children) {
     std::uint64_t entries = children * in_.edits_host.size();
     if (in_.settings.cull && children > 0) {
-        std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, children, in_.plan.cull_saturation(level), true);
+        std::unique_ptr<ocl::Buffer<cl_uint>> replaced =
+            cull_lists(level, children, in_.plan.cull_saturation(level), true);
         if (adaptive_) adaptive_->keep_lists(level - 1, std::move(replaced));
         entries = parent_lists_->size();
     }
@@ -253,7 +255,8 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::recull(int level) {
     ocl::set_args(in_.programs.words_k.get(), *parents_, static_cast<cl_uint>(parent_count_), words_);
     in_.scheduler.launch(measure::Stage::cull, level, in_.programs.words_k.get(), round_up(parent_count_, kGroup1d),
                          kGroup1d);
-    std::unique_ptr<ocl::Buffer<cl_uint>> replaced = cull_lists(level, parent_count_, in_.plan.parent_saturation(level), false);
+    std::unique_ptr<ocl::Buffer<cl_uint>> replaced =
+        cull_lists(level, parent_count_, in_.plan.parent_saturation(level), false);
     parent_entries_.back() = parent_lists_->size();
     reculled_ = true;
     return replaced;

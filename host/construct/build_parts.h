@@ -105,8 +105,8 @@ inline float float_down(double x) {
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
     ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k, cull_count_k, write_k, aabb_k, split_k, rank_k,
-        keys_k, place_k, keep_k, put_k;
+    ocl::Kernel count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k, cull_count_k,
+        write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;

@@ -18,8 +18,8 @@ nlohmann::json settings_json(const construct::BuildSettings& s) {
             {"format", construct::to_string(s.format)}, {"band_voxels", s.band_voxels}, {"guard", s.guard},
             {"chunk", s.chunk}, {"group", s.eval_group}, {"eval_max_registers", s.eval_registers},
             {"lanes", s.eval_lanes}, {"count_parts", s.count_parts}, {"count_splits", s.count_splits},
-            {"count_untested", s.count_untested}, {"cull", s.cull},
-            {"cull_siblings", s.cull_siblings}, {"skip_far", s.skip_far}, {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
+            {"count_untested", s.count_untested}, {"cull", s.cull}, {"cull_siblings", s.cull_siblings},
+            {"skip_far", s.skip_far}, {"apron_share_edits", s.apron_share_edits}, {"dependencies", s.dependencies},
             {"tolerance", s.tolerance}, {"max_brick_size", s.max_leaf_size}};
 }
 

@@ -1022,7 +1022,8 @@ PYBIND11_MODULE(sdfbrick, m) {
              "Builds the scene's bricks: keyword arguments as the report's settings (brick_size, levels, branching, "
              "samples, format, band_voxels, guard, chunk, group, eval_max_registers, lanes, count_parts, count_splits, "
              "count_untested, cull, cull_siblings, skip_far, apron_share_edits, dependencies, tolerance, max_brick_size) "
-             "and tolerance_voxels, time, repeat, warmup, reference_levels. Returns the report (the schema of `sdfbrick build --json`).")
+             "and tolerance_voxels, time, repeat, warmup, reference_levels. Returns the report (the schema of "
+             "`sdfbrick build --json`).")
         .def("play", &Context::play, py::arg("scene"),
              "Plays the scene's animation (and an edit log: edits=PATH) frame by frame: the report of "
              "`sdfbrick play --json` (frames=, fps= or dt=, start=, work=, digests=, the render and build keywords)")
