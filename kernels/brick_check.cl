@@ -83,14 +83,14 @@ inline void store_lanes(sdf_real v, __local float* a) {
 /* Whether the brick's list reaches an edit thinner than its voxel (see above). */
 inline int reaches_thin_edit(__global const SdfEdit* edits, __global const float* meshes, __global const uint* list,
                              uint n, float3 centre, float voxel, float reach, uint lid, uint wg) {
-    int thin = 0;
     for (uint j = lid; j < n; j += wg) {
         const SdfEdit e = edits[list[j]];
+        if (!(sdf_feature_size(e, meshes) < voxel)) continue; /* its value is not needed */
         const SdfPrepared pe = sdf_prepare(e);
         const float v = first_lane(sdf_edit_value(&pe, meshes, SDF_SPLAT(centre.x), SDF_SPLAT(centre.y), SDF_SPLAT(centre.z)));
-        thin |= sdf_feature_size(e, meshes) < voxel && fabs(v) < reach;
+        if (fabs(v) < reach) return 1; /* the result is an or: the first one settles it */
     }
-    return thin;
+    return 0;
 }
 
 /* The check points in eight classes of one parity each, cell centres first (odd on three axes: where
