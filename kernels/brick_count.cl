@@ -28,12 +28,60 @@
  * brick_count_merge adds up. */
 #include "sdf_build.h"
 
-/* One step of the fold: edit (terms, fold) of value v. saturation is C where not wide. */
-inline void fold_step(float* field, float* excess, float4 terms, float4 fold, float v, int wide, float saturation) {
+/* One step of the fold: edit (terms, fold) of value v (one per lane). saturation is C where not wide. */
+inline void fold_step(sdf_real* field, sdf_real* excess, float4 terms, float4 fold, sdf_real v, int wide,
+                      float saturation) {
     if (wide) *excess += sdf_saturation_excess(terms, v);
     *field = fmin(fmax(sdf_fold_select(fold, *field, v), -saturation), saturation);
 }
 
+/* Stages edits base .. base + n - 1 of the parent's list with their excess terms and fold parameters. */
+inline void stage_edits(__global const SdfEdit* edits, __global const uint* list, uint n, uint lid, uint wg,
+                        __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, float clamp_c,
+                        float saturation, float threshold, float magnitude) {
+    for (uint j = lid; j < n; j += wg) {
+        const SdfPrepared e = sdf_prepare(edits[list[j]]);
+        chunk[j] = e;
+        terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
+        folds[j] = sdf_fold_params(&e);
+    }
+}
+
+/* Whether the fold keeps a child (see above). */
+inline sdf_index child_kept(sdf_real field, sdf_real excess, int wide, float threshold, float reject_slack) {
+    return wide ? (fabs(field) <= threshold + excess) | (excess >= reject_slack) : fabs(field) <= threshold;
+}
+
+/* After kept[0 .. per) is written: the work-group's child mask and count, written by its first
+ * work-item (the parent's, or the split's part of it in split_words). */
+inline void write_mask(__local const uint* kept, uint per, uint split, uint splits, uint parent, uint group,
+                       __global SdfBrick* parents, __global uint* child_counts, __global uint* split_words) {
+    uint mask[2] = {0u, 0u}, count = 0;
+    for (uint i = 0; i < per; ++i) {
+        if (kept[i]) {
+            const uint c = split * per + i;
+            mask[c >> 5] |= 1u << (c & 31u);
+            ++count;
+        }
+    }
+    if (splits == 1u) {
+        parents[parent].child_mask[0] = mask[0];
+        parents[parent].child_mask[1] = mask[1];
+        child_counts[parent] = count;
+    } else {
+        split_words[3u * group] = mask[0];
+        split_words[3u * group + 1u] = mask[1];
+        split_words[3u * group + 2u] = count;
+    }
+}
+
+/* The centre of child `child` of parent b. */
+inline float3 child_centre(SdfBrick b, uint child, uint log2b, float3 origin, float child_cell) {
+    const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)(1u << log2b) + sdf_morton_child(child, log2b);
+    return sdf_cell_centre(origin, child_cell, coord);
+}
+
+#if SDF_LANES == 1
 __kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
@@ -48,8 +96,7 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
     const uint mine = lid % per, child = split * per + mine;
     const uint part = lid / per, parts = wg / per;
     const SdfBrick b = parents[parent];
-    const int3 coord = (int3)(b.coord[0], b.coord[1], b.coord[2]) * (int)(1u << log2b) + sdf_morton_child(child, log2b);
-    const float3 p = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), child_cell, coord);
+    const float3 p = child_centre(b, child, log2b, (float3)(origin_x, origin_y, origin_z), child_cell);
     const int wide = saturation > clamp_c;
     const int keep_all = b.edit_count >= untested_from;
     const uint edit_count = keep_all ? 0u : b.edit_count;
@@ -57,12 +104,8 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
     for (uint base = 0; base < edit_count; base += chunk_size) {
         const uint n = min(chunk_size, edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < n; j += wg) {
-            const SdfPrepared e = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
-            chunk[j] = e;
-            terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
-            folds[j] = sdf_fold_params(&e);
-        }
+        stage_edits(edits, edit_indices + b.edit_offset + base, n, lid, wg, chunk, terms, folds, clamp_c, saturation,
+                    threshold, magnitude);
         barrier(CLK_LOCAL_MEM_FENCE);
         if (parts == 1u) {
             /* Unrolled, the values overlap. */
@@ -85,30 +128,60 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
             }
         }
     }
-    if (part == 0u)
-        kept[mine] = keep_all || (wide ? fabs(field) <= threshold + excess || excess >= reject_slack
-                                         : fabs(field) <= threshold) ? 1u : 0u;
+    if (part == 0u) kept[mine] = keep_all || child_kept(field, excess, wide, threshold, reject_slack) ? 1u : 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (lid == 0) {
-        uint mask[2] = {0u, 0u}, count = 0;
-        for (uint i = 0; i < per; ++i) {
-            if (kept[i]) {
-                const uint c = split * per + i;
-                mask[c >> 5] |= 1u << (c & 31u);
-                ++count;
-            }
-        }
-        if (splits == 1u) {
-            parents[parent].child_mask[0] = mask[0];
-            parents[parent].child_mask[1] = mask[1];
-            child_counts[parent] = count;
-        } else {
-            split_words[3u * group] = mask[0];
-            split_words[3u * group + 1u] = mask[1];
-            split_words[3u * group + 2u] = count;
+    if (lid == 0) write_mask(kept, per, split, splits, parent, group, parents, child_counts, split_words);
+}
+#else
+/* With SDF_LANES > 1 (CPU devices): each work-item folds SDF_LANES children at once, lane l holding
+ * child lid * SDF_LANES + l of the work-group's `per` (lanes past the last repeat it and are not
+ * written); the work-group has ceil(per / SDF_LANES) work-items and no parts (`values` is unused).
+ * Every lane does the scalar kernel's operations in the same order: the same bits. With one child
+ * per work-item, PoCL ran the fold at a sixth of the evaluation's rate per edit (docs/performance.md). */
+__kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
+                          __global SdfBrick* parents, uint log2b,
+                          float origin_x, float origin_y, float origin_z, float child_cell,
+                          float threshold, float clamp_c, float saturation, float reject_slack,
+                          float magnitude, uint untested_from,
+                          __global uint* child_counts, uint splits, __global uint* split_words,
+                          __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, uint chunk_size,
+                          __local float* values, __local uint* kept) {
+    const uint group = get_group_id(0), parent = group / splits, split = group % splits;
+    const uint lid = get_local_id(0), wg = get_local_size(0);
+    const uint per = (1u << (3u * log2b)) / splits;
+    const SdfBrick b = parents[parent];
+    float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES];
+    for (uint l = 0; l < SDF_LANES; ++l) {
+        const float3 c = child_centre(b, split * per + min(lid * SDF_LANES + l, per - 1u), log2b,
+                                      (float3)(origin_x, origin_y, origin_z), child_cell);
+        x[l] = c.x;
+        y[l] = c.y;
+        z[l] = c.z;
+    }
+    const sdf_real px = SDF_REAL_CAT(vload, SDF_LANES)(0, x), py = SDF_REAL_CAT(vload, SDF_LANES)(0, y),
+                   pz = SDF_REAL_CAT(vload, SDF_LANES)(0, z);
+    const int wide = saturation > clamp_c;
+    const int keep_all = b.edit_count >= untested_from;
+    const uint edit_count = keep_all ? 0u : b.edit_count;
+    sdf_real field = SDF_SPLAT(saturation), excess = SDF_SPLAT(0.0f);
+    for (uint base = 0; base < edit_count; base += chunk_size) {
+        const uint n = min(chunk_size, edit_count - base);
+        barrier(CLK_LOCAL_MEM_FENCE);
+        stage_edits(edits, edit_indices + b.edit_offset + base, n, lid, wg, chunk, terms, folds, clamp_c, saturation,
+                    threshold, magnitude);
+        barrier(CLK_LOCAL_MEM_FENCE);
+        for (uint j = 0; j < n; ++j) {
+            const SdfPrepared e = chunk[j];
+            fold_step(&field, &excess, terms[j], folds[j], sdf_edit_value(&e, meshes, px, py, pz), wide, saturation);
         }
     }
+    int k[SDF_LANES];
+    SDF_REAL_CAT(vstore, SDF_LANES)(child_kept(field, excess, wide, threshold, reject_slack), 0, k);
+    for (uint l = 0; l < SDF_LANES && lid * SDF_LANES + l < per; ++l) kept[lid * SDF_LANES + l] = keep_all || k[l] ? 1u : 0u;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (lid == 0) write_mask(kept, per, split, splits, parent, group, parents, child_counts, split_words);
 }
+#endif
 
 /* After a split count: each parent's mask and count from its work-groups' parts (bits of different
  * children, so the or and the sum give what one work-group writes). */

@@ -83,8 +83,8 @@ inline float4 sdf_excess_terms(const SdfPrepared* e, float clamp_c, float satura
 
 /* The excess itself from e's terms (sdf_excess_terms: level, reach, k/4, rounding; they do not depend
  * on v, so a work-group computes them once per edit) and e's value v. */
-inline float sdf_saturation_excess(float4 terms, float v) {
-    return (fabs(v - terms.x) < terms.y ? terms.z : 0.0f) + terms.w;
+inline sdf_real sdf_saturation_excess(float4 terms, sdf_real v) {
+    return select(SDF_SPLAT(0.0f), SDF_SPLAT(terms.z), fabs(v - terms.x) < terms.y) + terms.w;
 }
 
 /* An edit's combine as data, for a fold without a branch per edit (a branch serialises the loads of
@@ -97,13 +97,13 @@ inline float4 sdf_fold_params(const SdfPrepared* e) {
     return (float4)(op == SDF_OP_SUBTRACT ? -1.0f : 1.0f, e->blend > 0.0f ? e->blend : 0.0f, e->blend_q, rule);
 }
 
-inline float sdf_fold_select(float4 f, float field, float v) {
-    const float b = f.x * v; /* exact: v or -v */
-    const float w = fmax(f.y - fabs(field - b), 0.0f);
-    const float t = w * w * f.z;
-    const float lo = fmin(field, b), hi = fmax(field, b);
+inline sdf_real sdf_fold_select(float4 f, sdf_real field, sdf_real v) {
+    const sdf_real b = f.x * v; /* exact: v or -v */
+    const sdf_real w = fmax(f.y - fabs(field - b), 0.0f);
+    const sdf_real t = w * w * f.z;
+    const sdf_real lo = fmin(field, b), hi = fmax(field, b);
     const int smooth = f.y > 0.0f;
-    const float joined = smooth ? lo - t : lo, cut = smooth ? hi + t : hi;
+    const sdf_real joined = smooth ? lo - t : lo, cut = smooth ? hi + t : hi;
     return f.w == 1.0f ? joined : f.w == 2.0f ? cut : field;
 }
 

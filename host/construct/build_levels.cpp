@@ -106,6 +106,8 @@ Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_
             while (parent_count_ * shape.splits * 2 <= in_.device.info().compute_units && per() >= 8)
                 shape.splits *= 2;
     }
+    // A CPU folds a SIMD value of children per work-item where each child has one (the setting `lanes`).
+    if (shape.parts == 1) shape.lanes = in_.settings.lanes(in_.device.info());
     if (per() * shape.parts > limit || !values_fit())
         throw SettingError(in_.settings.count_parts > 0 ? "count_parts" : "count_splits",
                            fmt::format("count_parts {} with count_splits {} does not fit brick_count's work-group on "
@@ -135,7 +137,8 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
     const std::size_t split_words = shape.splits > 1 ? 3 * parent_count_ * shape.splits : 1;
     if (split_words_.size() < split_words) split_words_ = allocate<cl_uint>(in_.device, split_words, "the split counts");
     const auto& k = in_.programs;
-    ocl::set_args(k.count_k.get(), in_.edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
+    const ocl::Kernel& kernel = in_.programs.count_kernel(in_.device, shape.lanes);
+    ocl::set_args(kernel.get(), in_.edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
                   in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level),
                   in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude),
                   static_cast<cl_uint>(untested_from(level)), counts,
@@ -143,8 +146,8 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},
                   ocl::LocalMemory{per * sizeof(cl_uint)});
-    in_.scheduler.launch(measure::Stage::count, level, k.count_k.get(), parent_count_ * per_parent * shape.parts,
-                         per * shape.parts);
+    const std::size_t group = shape.lanes > 1 ? (per + shape.lanes - 1) / shape.lanes : per * shape.parts;
+    in_.scheduler.launch(measure::Stage::count, level, kernel.get(), parent_count_ * shape.splits * group, group);
     if (shape.splits > 1) {
         ocl::set_args(k.count_merge_k.get(), parents, static_cast<cl_uint>(parent_count_),
                       static_cast<cl_uint>(shape.splits), split_words_, counts);

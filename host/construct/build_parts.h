@@ -118,6 +118,22 @@ struct BuildPrograms {
         ocl::Kernel level, leaf;
     };
     std::map<std::string, Stats> stats_by_layout;
+    struct LaneCount {  // brick_count.cl with SDF_LANES > 1: a work-item per that many children
+        ocl::Program program;
+        ocl::Kernel kernel;
+    };
+    std::map<int, LaneCount> count_by_lanes;
+    // brick_count for `lanes` children a work-item (1: count_k).
+    const ocl::Kernel& count_kernel(ocl::Device& d, int lanes) {
+        if (lanes <= 1) return count_k;
+        auto it = count_by_lanes.find(lanes);
+        if (it == count_by_lanes.end()) {
+            ocl::Program p = ocl::build_program(d, "brick_count.cl", fmt::format("-DSDF_LANES={}", lanes));
+            ocl::Kernel k = ocl::make_kernel(p, "brick_count");
+            it = count_by_lanes.emplace(lanes, LaneCount{std::move(p), std::move(k)}).first;
+        }
+        return it->second.kernel;
+    }
     const Stats& stats(ocl::Device& d, const BrickLayout& layout) {
         const std::string defines = layout.defines();
         auto it = stats_by_layout.find(defines);
@@ -286,6 +302,7 @@ private:
         std::size_t parts = 1;   // work-items per child
         std::size_t splits = 1;  // work-groups per parent
         std::size_t chunk = 0;   // edits staged at once
+        int lanes = 1;           // children a work-item folds at once (CPU lanes, with one part)
     };
     CountShape count_shape(std::size_t children, std::uint64_t mean_list) const;
     // The count stage of `level` over parents (parent_count_ of them): child masks and counts.

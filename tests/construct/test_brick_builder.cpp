@@ -276,7 +276,8 @@ TEST(ConstructBuild, ChunkAndGroupSizesDoNotChangeTheOutput) {
 
 // The evaluation's SIMD lanes (sdf_edit.h) give every sample the float path's bits: every primitive
 // and combine rule, in each format, with 8^3 and 10^3 samples (1000 is no multiple of 16: the last
-// value's lanes past the brick are dropped), one and many work-items.
+// value's lanes past the brick are dropped), one and many work-items; and the count's lanes (children
+// a work-item) give every child the scalar fold's test.
 TEST(ConstructBuild, LanesDoNotChangeTheOutput) {
     const Geometry g = mixed_geometry();
     for (BuildSettings s : {settings(0.125), settings(0.125, BrickFormat::int16, 10), settings(0.25, BrickFormat::float32)}) {
@@ -346,8 +347,9 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
     }
 }
 
-// The count stage's work-items per child (BuildSettings::count_parts: automatic, which is one on a
-// CPU, and 2 and 16, which compute the values in turn and fold them in one) and its work-groups per
+// The count stage's work-items per child (BuildSettings::count_parts: automatic, which on a CPU is a
+// SIMD value of children a work-item, and 2 and 16, which compute the values in turn and fold them
+// in one) and its work-groups per
 // parent (count_splits 2 and 8 with 4 parts: each takes a share of the children) change no bit; nor does
 // culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
 // its levels need (one at the top, up to a word where a level has many bricks); nor does the cull's
