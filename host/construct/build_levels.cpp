@@ -10,6 +10,10 @@
 
 namespace sdfbrick::construct::detail {
 
+namespace {
+constexpr std::uint64_t kMaxChunkWords = 8;  // words of a list cull_mark_siblings stages at once
+}  // namespace
+
 Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adaptive, const Region* region)
     : in_(in),
       subtrees_(subtrees),
@@ -334,7 +338,10 @@ void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64
     const bool long_lists = in_.device.info().type != "gpu" || total_words >= kGpuMinWords * n;
     if (siblings && parents_from > 0 && parent_count_ >= parents_from && n >= kMinSiblings * parent_count_ &&
         long_lists && siblings_limit() >= per_parent) {
-        mark_siblings(level, n, saturation, total_words, std::max(kGroup1d, per_parent));
+        // On CPUs a work-item tests a SIMD value of children (the setting `lanes`) for a word of the list.
+        const auto lanes = static_cast<std::size_t>(in_.settings.lanes(in_.device.info()));
+        mark_siblings(level, n, saturation, total_words, lanes,
+                      lanes > 1 ? (per_parent + lanes - 1) / lanes * kMaxChunkWords : std::max(kGroup1d, per_parent));
         return;
     }
     const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
@@ -354,22 +361,23 @@ std::size_t Levels::siblings_limit() const {
 // its list use on average (the local memory beyond them costs occupancy), and as many work-groups a
 // parent, each with a share of its words, as fill the device, up to a chunk each on average (one
 // parent's long list would otherwise hold the level back).
-void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t group) {
-    constexpr std::uint64_t kMaxChunkWords = 8, kMaxSplits = 64;
-    const auto& k = in_.programs;
+void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t lanes,
+                           std::size_t group) {
+    constexpr std::uint64_t kMaxSplits = 64;
+    const ocl::Kernel& kernel = in_.programs.siblings_kernel(in_.device, static_cast<int>(lanes));
     const std::uint64_t mean_words = (total_words + n - 1) / n, groups = parent_count_ * group;
     const std::uint64_t chunk_words =
-        std::clamp<std::uint64_t>(std::min(group * parent_count_ / n, mean_words), 1, kMaxChunkWords);
+        std::clamp<std::uint64_t>(std::min(group * lanes * parent_count_ / n, mean_words), 1, kMaxChunkWords);
     const std::uint64_t fill = (resident_items(siblings_limit()) + groups - 1) / groups;
     const std::uint64_t splits = std::clamp<std::uint64_t>(std::min(fill, mean_words / chunk_words), 1, kMaxSplits);
-    ocl::set_args(k.mark_siblings_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
+    ocl::set_args(kernel.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
                   in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
                   in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
                   static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                   ocl::LocalMemory{chunk_words * 32 * sizeof(SdfEdit)},
                   ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words),
                   static_cast<cl_uint>(splits));
-    in_.scheduler.launch(measure::Stage::cull, level, k.mark_siblings_k.get(), parent_count_ * splits * group, group);
+    in_.scheduler.launch(measure::Stage::cull, level, kernel.get(), parent_count_ * splits * group, group);
 }
 
 // Keeps the range of this level's bricks that subtrees_ picks; their lists stay where they are.

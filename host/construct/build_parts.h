@@ -118,22 +118,27 @@ struct BuildPrograms {
         ocl::Kernel level, leaf;
     };
     std::map<std::string, Stats> stats_by_layout;
-    struct LaneCount {  // brick_count.cl with SDF_LANES > 1: a work-item per that many children
-        ocl::Program program;
-        ocl::Kernel kernel;
+    struct Lanes {  // brick_count.cl and brick_cull.cl with SDF_LANES > 1: that many children a work-item
+        ocl::Program count, cull;
+        ocl::Kernel count_k, siblings_k;
     };
-    std::map<int, LaneCount> count_by_lanes;
-    // brick_count for `lanes` children a work-item (1: count_k).
-    const ocl::Kernel& count_kernel(ocl::Device& d, int lanes) {
-        if (lanes <= 1) return count_k;
-        auto it = count_by_lanes.find(lanes);
-        if (it == count_by_lanes.end()) {
-            ocl::Program p = ocl::build_program(d, "brick_count.cl", fmt::format("-DSDF_LANES={}", lanes));
-            ocl::Kernel k = ocl::make_kernel(p, "brick_count");
-            it = count_by_lanes.emplace(lanes, LaneCount{std::move(p), std::move(k)}).first;
+    std::map<int, Lanes> by_lanes;
+    const Lanes& lanes(ocl::Device& d, int n) {
+        auto it = by_lanes.find(n);
+        if (it == by_lanes.end()) {
+            const std::string defines = fmt::format("-DSDF_LANES={}", n);
+            ocl::Program count_p = ocl::build_program(d, "brick_count.cl", defines);
+            ocl::Program cull_p = ocl::build_program(d, "brick_cull.cl", defines);
+            ocl::Kernel counts = ocl::make_kernel(count_p, "brick_count");
+            ocl::Kernel siblings = ocl::make_kernel(cull_p, "cull_mark_siblings");
+            it = by_lanes.emplace(n, Lanes{std::move(count_p), std::move(cull_p), std::move(counts),
+                                           std::move(siblings)}).first;
         }
-        return it->second.kernel;
+        return it->second;
     }
+    // brick_count and cull_mark_siblings for `n` children a work-item (1: count_k, mark_siblings_k).
+    const ocl::Kernel& count_kernel(ocl::Device& d, int n) { return n <= 1 ? count_k : lanes(d, n).count_k; }
+    const ocl::Kernel& siblings_kernel(ocl::Device& d, int n) { return n <= 1 ? mark_siblings_k : lanes(d, n).siblings_k; }
     const Stats& stats(ocl::Device& d, const BrickLayout& layout) {
         const std::string defines = layout.defines();
         auto it = stats_by_layout.find(defines);
@@ -321,7 +326,8 @@ private:
     void cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings);
     // cull_mark_siblings for cull_mark (group: work-items per parent, at least its children), and its
     // work-group limit.
-    void mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t group);
+    void mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t lanes,
+                       std::size_t group);
     std::size_t siblings_limit() const;
     std::uint64_t keep_subtrees(std::uint64_t children);
     std::uint64_t keep_region(int level, std::uint64_t children);
