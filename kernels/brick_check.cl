@@ -18,8 +18,9 @@
  * classes in phases (phase_end: each class of cell centres, then the six others together), in values
  * of SDF_LANES points (one on GPUs): points in a deep cell are skipped, those whose field is known to
  * be beyond the window from a sample (below) are settled at once, and the others are listed with
- * their interpolated values and folded through the brick's list staged in __local chunks as
- * brick_evaluate does, their coordinates computed in lanes; a work-group stops after the first phase
+ * their interpolated values and folded through the brick's list (or, with hard edits only, the one
+ * culled again for the children with their saturation clamp_c: the same bits within the window)
+ * staged in __local chunks as brick_evaluate does, their coordinates computed in lanes; a work-group stops after the first phase
  * with a failing point.
  * Writes the brick's worst error (INFINITY when it failed) and whether it passed.
  * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */

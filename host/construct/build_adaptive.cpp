@@ -70,6 +70,14 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     }
     const ocl::Buffer<SdfBrick>& bricks = own_records ? *own_records : levels.parents();
     const ocl::Buffer<cl_uint>& lists = own_lists ? *own_lists : levels.lists();
+    // With hard edits only, clamping commutes with min and max: F_C clamped to +-window is F_{C_l}
+    // clamped to it, bit for bit, wherever C >= window. So where the lists were culled again for C,
+    // the check's points fold those shorter lists with C (the samples keep the bricks' own lists).
+    const bool short_folds = own_lists && in_.plan.hard && in_.plan.clamp_c >= window &&
+                             in_.plan.clamp_c >= 0.5f * in_.plan.tolerance;
+    const ocl::Buffer<SdfBrick>& fold_bricks = short_folds ? levels.parents() : bricks;
+    const ocl::Buffer<cl_uint>& fold_lists = short_folds ? levels.lists() : lists;
+    const float fold_clamp = short_folds ? in_.plan.clamp_c : in_.plan.level_clamp[level];
     std::optional<ocl::Buffer<SdfBrick>> counted;
     std::optional<ocl::Buffer<cl_uint>> children;
     if (last) {
@@ -94,8 +102,8 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * thin_group, thin_group);
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
     evaluate_samples(in_, masked, lists, n, nullptr, samples, measure::Stage::check, level);
-    ocl::set_args(kernel.get(), in_.edits, in_.meshes, lists, bricks, samples, in_.origin.x,
-                  in_.origin.y, in_.origin.z, voxel, in_.plan.level_clamp[level], band, layout.dequantise_scale(band),
+    ocl::set_args(kernel.get(), in_.edits, in_.meshes, fold_lists, fold_bricks, samples, in_.origin.x,
+                  in_.origin.y, in_.origin.z, voxel, fold_clamp, band, layout.dequantise_scale(band),
                   in_.plan.tolerance, window, out.errors, out.passed,
                   ocl::LocalMemory{group * sizeof(float)},
                   ocl::LocalMemory{chunk * sizeof(SdfEdit)}, static_cast<cl_uint>(chunk));

@@ -174,6 +174,7 @@ struct BuildPlan {
     double magnitude = 0.0;     // largest |coordinate| of the domain
     double voxel = 0.0;
     float band = 0.0f, clamp_c = 0.0f;
+    bool hard = false;  // no edit blends: clamping the fold commutes with every combine
 
     // The keep threshold of a cell of `level`: its half diagonal with margins for float rounding.
     float threshold(int level) const {

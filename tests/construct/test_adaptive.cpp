@@ -217,15 +217,15 @@ TEST(ConstructAdaptive, CullingRepeatsAndChunksAreBitIdentical) {
     EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), first) << "chunk, group";
 }
 
-// A slab engraved by many small hard box cuts: the coarse candidates' lists are long, and the check
+// A rounded slab engraved by many small hard box cuts: the coarse candidates' lists are long, and the check
 // fails most of them near the cuts, so their parents are culled again for the next level (CPU
 // devices, lists of 64 edits or more). That must change no bit: culling off gives the same output.
 Geometry engraved_geometry() {
     Geometry g;
     g.name = "engraved";
-    Edit slab;
-    slab.primitive = Primitive::Box;
-    slab.params = {1.0, 0.15, 0.6, 0.0};
+    Edit slab;  // rounded, so that coarse leaves on its edges have check errors
+    slab.primitive = Primitive::RoundBox;
+    slab.params = {1.0, 0.15, 0.6, 0.1};
     g.edits.push_back(slab);
     for (int i = 0; i < 400; ++i) {
         Edit cut;
@@ -251,7 +251,12 @@ TEST(ConstructAdaptive, CullingTheCheckedParentsAgainChangesNoBit) {
     EXPECT_GT(on.leaf_count, 0u);
     const std::string digest = construct::output_digest(on, s);
     s.cull = false;
-    EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest) << "culling off";
+    const GeometryBuild off = builder().build(g, s, test::recorder());
+    EXPECT_EQ(construct::output_digest(off, s), digest) << "culling off";
+    // Its edits are hard, so the check's points folded the lists culled again, with C: the same errors.
+    EXPECT_GT(on.check_error_max, 0.0);
+    EXPECT_EQ(on.check_error_max, off.check_error_max);
+    EXPECT_EQ(on.check_error_p99, off.check_error_p99);
 }
 
 // The check stages as much of its chunk as the device's local memory holds beside its own arrays
