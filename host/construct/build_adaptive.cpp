@@ -21,14 +21,17 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
         in_.device, "brick_check.cl",
         fmt::format("{} -DSDF_LANES={}", layout.defines(), in_.settings.lanes(in_.device.info())));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_check");
-    // The check's work-group: the evaluation's on CPUs; 128 work-items on GPUs, which fold a class's
-    // points with more of them at once (changes no bit). On the H200 (docs/measurements/roof/d11)
-    // engraved_slab's check took 1.19 ms with 128 against 1.43 with the evaluation's tuned 64, and
-    // no hard case was slower; 256 was slower on five of the six scenes.
+    // The check's work-group (changes no bit): on GPUs 128 work-items, which fold a class's points
+    // with more of them at once. On the H200 (docs/measurements/roof/d11) engraved_slab's check took
+    // 1.19 ms with 128 against 1.43 with the evaluation's tuned 64, and no hard case was slower; 256
+    // was slower on five of the six scenes. On CPUs, where a core runs a work-group's items one after
+    // another, 8: PoCL here (docs/measurements/adaptive/c3/cg.txt) ran brick_check 3-20% faster than
+    // with the evaluation's tuned 32 on every hard case, board and drops.
+    constexpr std::size_t kCpuGroup = 8;
     const std::size_t group =
         in_.device.info().type == "gpu"
             ? std::min<std::size_t>(128, ocl::kernel_work_group_limit(in_.device, kernel.get(), "brick_check"))
-            : std::min<std::size_t>(in_.settings.eval_group, layout.samples_per_brick());
+            : std::min<std::size_t>(kCpuGroup, layout.samples_per_brick());
     // Its chunk: the evaluation's, or as much as the device's local memory holds beside the check's
     // own arrays (about 22 KB for 8^3 samples, 28 KB for 10^3) and the work-group's worst errors.
     // The fold is in list order whatever the chunk: no bit depends on it.
