@@ -48,6 +48,8 @@ constexpr const char* kH200Files =
     "H200 machine, NVIDIA OpenCL; docs/measurements/tuning-h200.json, h200-tune-nvidia.txt";
 constexpr const char* kH200TraceFiles =
     "H200 machine, NVIDIA OpenCL; docs/measurements/roof/d18.sh, d18.tgz (tuning-hybrid.json, tune-hybrid.txt)";
+constexpr const char* kHereEvaluateFiles =
+    "2-core AMD EPYC development machine, PoCL 3.1; docs/measurements/tuning-pocl-here-2.json, pocl-here-tune-2.txt";
 constexpr const char* kHereFiles =
     "2-core AMD EPYC development machine, PoCL 3.1; docs/measurements/tuning-pocl-here.json, pocl-here-tune.txt";
 
@@ -57,8 +59,8 @@ constexpr Measured kMeasured[] = {
      7.865152, kEvaluateDefault, 8.352, 0.0625, 0, 0, 5, "2026-11-22T07:05:04Z", kH100Files},
     {kH100, "580.159.04", "NVIDIA Corporation", "NVIDIA CUDA", kTraceKernel, {{{"group_x", 4}, {"group_y", 8}}},
      3.382912, kTraceDefault, 3.62496, 0.0625, 3840, 2160, 5, "2026-11-22T07:05:20Z", kH100Files},
-    {kHerePocl, "3.1+debian", "AuthenticAMD", kPocl, kEvaluateKernel, {{{"chunk", 128}, {"group", 32}}},
-     810.549123, kEvaluateDefault, 908.677755, 0.25, 0, 0, 2, "2026-11-22T07:05:29Z", kHereFiles},
+    {kHerePocl, "3.1+debian", "AuthenticAMD", kPocl, kEvaluateKernel, {{{"chunk", 64}, {"group", 8}}},
+     88.540503, kEvaluateDefault, 126.637152, 0.25, 0, 0, 2, "2026-12-05T21:40:56Z", kHereEvaluateFiles},
     {kHerePocl, "3.1+debian", "AuthenticAMD", kPocl, kTraceKernel, {{{"group_x", 16}, {"group_y", 8}}},
      58.73181, kTraceDefault, 58.73181, 0.25, 640, 360, 2, "2026-11-22T07:05:39Z", kHereFiles},
     {kH100Pocl, "5.0+debian", "GenuineIntel", kPocl, kEvaluateKernel, {{{"chunk", 32}, {"group", 64}}},

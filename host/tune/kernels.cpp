@@ -49,7 +49,7 @@ TunedKernel make_evaluate() {
     k.name = kEvaluateKernel;
     k.option = "evaluate";
     k.params = {{"chunk", 16, 256, false, {}, ""},
-                {"group", 32, 1024, true, {}, ""},
+                {"group", 8, 1024, true, {}, ""},
                 {"registers", 0, 0, false, {0, 64, 56, 48}, "cl_nv_compiler_options"}};
     k.objective = {measure::Stage::count, measure::Stage::evaluate};
     k.objective_text = "count + evaluate stages";

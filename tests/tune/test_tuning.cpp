@@ -217,7 +217,7 @@ TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
     EXPECT_EQ(tune::find_kernel("evaluate"), &ev);
     EXPECT_EQ(tune::find_kernel(tune::kTraceKernel), &tr);
     EXPECT_EQ(tune::find_kernel("shade"), nullptr);
-    EXPECT_EQ(ev.space().size(), 120u);  // chunk 16..256 x group 32..1024 x registers 0, 64, 56, 48
+    EXPECT_EQ(ev.space().size(), 160u);  // chunk 16..256 x group 8..1024 x registers 0, 64, 56, 48
     EXPECT_EQ(tr.space().size(), 90u);  // group_x 4..64 x group_y 1..32 x registers 0, 64, 96
     EXPECT_EQ(ev.default_config(), (tune::Config{{"chunk", 64}, {"group", 128}, {"registers", 0}}));
     EXPECT_EQ(tr.default_config(), (tune::Config{{"group_x", 16}, {"group_y", 8}, {"registers", 0}}));
@@ -225,7 +225,7 @@ TEST(TuneKernels, DeclarationsGiveSpacesConstraintsAndDefaults) {
     EXPECT_EQ(tr.objective, std::vector<measure::Stage>{measure::Stage::trace});
 
     ocl::DeviceInfo d = fake_device("GPU A", "Acme");  // 256 work-items
-    EXPECT_EQ(ev.space(&d).size(), 20u) << "the group stops at the device's work-group size";
+    EXPECT_EQ(ev.space(&d).size(), 30u) << "the group stops at the device's work-group size";
     EXPECT_EQ(tr.space(&d).size(), 30u) << "shapes too large stay in the space, refused; no register cap without "
                                             "cl_nv_compiler_options";
     EXPECT_NE(tr.refuses({{"group_x", 32}, {"group_y", 16}}, &d), "");
