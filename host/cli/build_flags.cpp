@@ -39,9 +39,9 @@ void BuildFlags::add_to(CLI::App* cmd) {
                                  "registers per work-item the leaf evaluation may use, NVIDIA only (default: tuned for "
                                  "the device, else 0: the compiler's choice; changes no bit)")
                      ->check(CLI::Range(0, 255));
-    cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation, and candidate children "
-                                              "of the count stage: 1, 2, 4, 8 or 16 (default: the native float width "
-                                              "on CPU devices, else 1; changes no bit)");
+    cmd->add_option("--lanes", s.eval_lanes, "samples per SIMD value of the leaf evaluation and the check, and "
+                                              "children of the count and the sibling cull: 1, 2, 4, 8 or 16 (default: "
+                                              "the native float width on CPU devices, else 1; changes no bit)");
     cmd->add_option("--count-parts", s.count_parts, "work-items per candidate child in the count stage: 1, 2, 4, 8 or 16 "
                                                      "(default 0: several on GPUs at levels with few bricks, else 1; "
                                                      "changes no bit)");

@@ -48,9 +48,10 @@ struct BuildSettings {
     // Registers per work-item the leaf evaluation may use, on NVIDIA's compiler only
     // (-cl-nv-maxrregcount; changes no bit): 0 = the compiler's choice.
     int eval_registers = 0;
-    // Samples per SIMD value of the leaf evaluation, and children per work-item of the count where a
-    // child has one work-item (1, 2, 4, 8 or 16; changes no bit): 0 = the device's native float width
-    // on CPU devices, 1 elsewhere (GPUs run work-items as SIMD lanes).
+    // Samples per SIMD value of the leaf evaluation and the check, and new children per work-item of
+    // the count (where a child has one work-item) and of the sibling cull (1, 2, 4, 8 or 16; changes
+    // no bit): 0 = the device's native float width on CPU devices, 1 elsewhere (GPUs run work-items
+    // as SIMD lanes).
     int eval_lanes = 0;
     // Work-items per candidate child in the count stage (1, 2, 4, 8 or 16; changes no bit): several
     // compute a long list's values in turn and one folds them. 0 = automatic: on GPUs as many as fill
