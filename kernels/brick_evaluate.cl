@@ -8,7 +8,8 @@
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
  * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below),
  * APRON_SHARED (0: every leaf owns all its samples, and the kernel reads no owned_regions),
- * SKIP_FAR (1: with one lane, sphere and capsule edits skip the samples they cannot change, below),
+ * SKIP_FAR (1: sphere and capsule edits skip the work-items, and with one lane the samples, they
+ * cannot change, below),
  * EVAL_PRIMS and EVAL_OPS (the primitives and operations whose folds are compiled, below).
  * Lane l of value s of work-item lid holds owned sample (s * local size + lid) * lanes + l (with one
  * lane, consecutive work-items hold consecutive samples); a value whose first lane is past the last
@@ -52,16 +53,46 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, int all, _
     for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[owned_index(c + l, all, order)] = (sample_t)lanes[l];
 }
 
+/* The smallest and largest lane of v. */
 #if SDF_LANES == 1
-/* A sphere (centre xyz, radius w) around the samples of the work-item's first active values; w
- * includes 2^-20 of the centre's coordinates for the rounding of the centre. */
-inline float4 item_sphere(const float* px, const float* py, const float* pz, uint active) {
-    float3 lo = (float3)(INFINITY), hi = (float3)(-INFINITY);
+inline float lanes_min(sdf_real v) { return v; }
+inline float lanes_max(sdf_real v) { return v; }
+#else
+inline float lanes_min(sdf_real v) {
+#if SDF_LANES == 16
+    const float8 v8 = fmin(v.lo, v.hi);
+    const float4 v4 = fmin(v8.lo, v8.hi);
+#elif SDF_LANES == 8
+    const float4 v4 = fmin(v.lo, v.hi);
+#elif SDF_LANES == 4
+    const float4 v4 = v;
+#endif
+#if SDF_LANES >= 4
+    const float2 v2 = fmin(v4.lo, v4.hi);
+#else
+    const float2 v2 = v;
+#endif
+    return fmin(v2.x, v2.y);
+}
+inline float lanes_max(sdf_real v) { return -lanes_min(-v); }
+#endif
+
+/* A sphere (centre xyz, radius w) around the samples of the work-item's first active values (every
+ * lane: lanes past the last owned sample repeat it); w includes 2^-20 of the centre's coordinates
+ * for the rounding of the centre. */
+inline float4 item_sphere(const sdf_real* px, const sdf_real* py, const sdf_real* pz, uint active) {
+    sdf_real lx = SDF_SPLAT(INFINITY), ly = lx, lz = lx, hx = SDF_SPLAT(-INFINITY), hy = hx, hz = hx;
     for (uint s = 0; s < PER_ITEM; ++s)
         if (s < active) {
-            lo = fmin(lo, (float3)(px[s], py[s], pz[s]));
-            hi = fmax(hi, (float3)(px[s], py[s], pz[s]));
+            lx = fmin(lx, px[s]);
+            ly = fmin(ly, py[s]);
+            lz = fmin(lz, pz[s]);
+            hx = fmax(hx, px[s]);
+            hy = fmax(hy, py[s]);
+            hz = fmax(hz, pz[s]);
         }
+    const float3 lo = (float3)(lanes_min(lx), lanes_min(ly), lanes_min(lz));
+    const float3 hi = (float3)(lanes_max(hx), lanes_max(hy), lanes_max(hz));
     const float3 c = 0.5f * (lo + hi), h = hi - c;
     const float w = sqrt(h.x * h.x + h.y * h.y + h.z * h.z) + (fabs(c.x) + fabs(c.y) + fabs(c.z)) * 9.5367431640625e-07f;
     return (float4)(c, w);
@@ -81,7 +112,6 @@ inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound)
         1.00006103515625f;
     return (dx * dx + dy * dy + dz * dz) * g * g >= reach * reach;
 }
-#endif
 
 /* EVAL_PRIMS and EVAL_OPS: bit p set for each primitive p, bit o for each operation o that the
  * geometry's edits use (the host sets them; unset, every one). The folds of the others are not
@@ -112,21 +142,32 @@ inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound)
         case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_VALUES(PRIM, SDF_OP_SUBTRACT); break;      \
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
-/* A sphere or capsule (PRIM) edit of operation OP: the skip test for the whole work-item first,
- * then sdf_fold_radial per value. On an H200, drops' evaluation (no shared aprons) took 5.15 ms
- * with the per-value test alone and 3.70 with both (docs/performance.md). */
+/* A sphere or capsule (PRIM) edit of operation OP: the skip test for the whole work-item first
+ * (where it passes, every value keeps what the fold gives there: sdf_radial_kept), then with one
+ * lane sdf_fold_radial per value, in lanes the whole fold. On an H200, drops' evaluation (no shared
+ * aprons) took 5.15 ms with the per-value test alone and 3.70 with both (docs/performance.md). */
+#if SDF_LANES == 1
+#define FOLD_RADIAL_VALUES(PRIM, OP)                                                                       \
+    for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
+        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, field[s], px[s], py[s], pz[s], clamp_c, offset)
+#else
+#define FOLD_RADIAL_VALUES(PRIM, OP) FOLD_VALUES(PRIM, OP)
+#endif
 #define FOLD_RADIAL_OP(PRIM, OP)                                                                           \
     {                                                                                                      \
         const float offset = sdf_radial_offset(e, PRIM, clamp_c);                                          \
-        float extreme = OP == SDF_OP_ADD ? -INFINITY : INFINITY;                                           \
+        sdf_real extreme = SDF_SPLAT(OP == SDF_OP_ADD ? -INFINITY : INFINITY);                             \
         for (uint s = 0; s < PER_ITEM; ++s)                                                                \
             if (s < active) extreme = OP == SDF_OP_ADD ? fmax(extreme, field[s]) : fmin(extreme, field[s]);    \
-        if (!item_skips(e, PRIM, item, sdf_radial_bound(OP, extreme, offset)))                            \
+        const float bound = sdf_radial_bound(OP, OP == SDF_OP_ADD ? lanes_max(extreme) : lanes_min(extreme), offset); \
+        if (!item_skips(e, PRIM, item, bound)) {                                                           \
+            FOLD_RADIAL_VALUES(PRIM, OP);                                                                  \
+        } else if (OP == SDF_OP_SUBTRACT && e->blend > 0.0f) {                                             \
             for (uint s = 0; s < PER_ITEM; ++s)                                                            \
-                if (s < active)                                                                            \
-                    field[s] = sdf_fold_radial(e, PRIM, OP, field[s], px[s], py[s], pz[s], clamp_c, offset);   \
+                if (s < active) field[s] = sdf_radial_kept(e, OP, field[s]);                               \
+        }                                                                                                  \
     }
-#if SDF_LANES == 1 && SKIP_FAR
+#if SKIP_FAR
 #define FOLD_RADIAL(PRIM)                                                                                  \
     switch (op) {                                                                                          \
         case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) FOLD_RADIAL_OP(PRIM, SDF_OP_ADD); break;                  \
@@ -134,9 +175,7 @@ inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound)
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
 #else
-/* With SKIP_FAR 0, and in CPU lanes, every sample is evaluated: with the skips, PoCL's evaluation
- * of drops on 16 cores took 955-990 ms instead of 326-372 (docs/performance.md). */
-#define FOLD_RADIAL(PRIM) FOLD_PRIM(PRIM)
+#define FOLD_RADIAL(PRIM) FOLD_PRIM(PRIM) /* SKIP_FAR 0: every sample is evaluated */
 #endif
 inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
                         const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float4 item) {
@@ -193,7 +232,7 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
         pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + idx / (SAMPLES * SAMPLES)) + 0.5f) * voxel;
         field[s] = clamp_c;
     }
-#if SDF_LANES == 1 && SKIP_FAR
+#if SKIP_FAR
     const float4 item = item_sphere(px, py, pz, active);
 #else
     const float4 item = (float4)(0.0f); /* unused: FOLD_RADIAL */

@@ -29,6 +29,7 @@ inline sdf_real sdf_fold_of(const SdfPrepared* e, uint prim, uint op, __global c
 inline float sdf_fold(const SdfPrepared* e, __global const float* meshes, float field, float3 p, float clamp_c) {
     return sdf_fold_of(e, e->kind & 0xffu, (e->kind >> 8) & 0xffu, meshes, field, p.x, p.y, p.z, clamp_c);
 }
+#endif
 
 /* Spheres and capsules. Their value is (sqrt(d2) - r) s for the squared distance d2 of the point
  * from the centre (point or segment) in the edit's frame and its output scale s. An add changes the
@@ -44,7 +45,12 @@ inline float sdf_radial_offset(const SdfPrepared* e, uint prim, float clamp_c) {
 inline float sdf_radial_bound(uint op, float field, float offset) {
     return fmax((op == SDF_OP_ADD ? field : -field) + offset, 0.0f);
 }
+/* What the fold gives where a sphere or capsule edit of operation op cannot change it (above). */
+inline sdf_real sdf_radial_kept(const SdfPrepared* e, uint op, sdf_real field) {
+    return op == SDF_OP_ADD || !(e->blend > 0.0f) ? field : field + 0.0f;
+}
 
+#if SDF_LANES == 1
 /* sdf_fold_of for a sphere or capsule (prim) edit of operation add or subtract (op), skipping where
  * it cannot change the fold. */
 inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float field, float x, float y, float z,
@@ -54,8 +60,7 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float fie
     if (prim == SDF_PRIM_CAPSULE) dy = dy - clamp(dy, -e->prm[0], e->prm[0]);
     const float d2 = dx * dx + dy * dy + dz * dz; /* sdf_norm3's sum */
     const float bound = sdf_radial_bound(op, field, offset);
-    if (d2 * e->out_scale * e->out_scale >= bound * bound)
-        return op == SDF_OP_ADD || !(e->blend > 0.0f) ? field : field + 0.0f;
+    if (d2 * e->out_scale * e->out_scale >= bound * bound) return sdf_radial_kept(e, op, field);
     const float v = (sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0])) * e->out_scale;
     return fmin(fmax(sdf_combine_of(e, op, field, v), -clamp_c), clamp_c);
 }

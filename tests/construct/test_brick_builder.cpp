@@ -321,7 +321,7 @@ TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
 }
 
 // Skipping the points where a sphere or capsule edit cannot change the fold (BuildSettings::skip_far:
-// the evaluation with one lane) changes no bit: adds and subtracts, smooth and
+// per work-item, then per sample with one lane, per work-item alone in lanes) changes no bit: adds and subtracts, smooth and
 // hard, rotated and scaled, both sample layouts, int8 and float (where the sign of a zero shows),
 // with and without shared aprons, with one lane and with the device's.
 TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
