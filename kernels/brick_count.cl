@@ -81,7 +81,11 @@ inline float3 child_centre(SdfBrick b, uint child, uint log2b, float3 origin, fl
     return sdf_cell_centre(origin, child_cell, coord);
 }
 
-#if SDF_LANES == 1
+/* With SDF_LANES > 1 (CPU devices) each work-item folds SDF_LANES children at once: lane l holds child
+ * lid * SDF_LANES + l of the work-group's `per` (lanes past the last repeat it and are not written);
+ * the work-group has ceil(per / SDF_LANES) work-items and no parts (`values` is unused). Every lane
+ * does the one-lane fold's operations in the same order: the same bits. With one child a work-item,
+ * PoCL ran the fold at a sixth of the evaluation's rate per edit (docs/performance.md). */
 __kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
@@ -93,20 +97,34 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
     const uint group = get_group_id(0), parent = group / splits, split = group % splits;
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const uint per = (1u << (3u * log2b)) / splits; /* children of this work-group */
+    const SdfBrick b = parents[parent];
+    const float3 origin = (float3)(origin_x, origin_y, origin_z);
+#if SDF_LANES == 1
     const uint mine = lid % per, child = split * per + mine;
     const uint part = lid / per, parts = wg / per;
-    const SdfBrick b = parents[parent];
-    const float3 p = child_centre(b, child, log2b, (float3)(origin_x, origin_y, origin_z), child_cell);
+    const float3 p = child_centre(b, child, log2b, origin, child_cell);
+#else
+    float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES];
+    for (uint l = 0; l < SDF_LANES; ++l) {
+        const float3 c = child_centre(b, split * per + min(lid * SDF_LANES + l, per - 1u), log2b, origin, child_cell);
+        x[l] = c.x;
+        y[l] = c.y;
+        z[l] = c.z;
+    }
+    const sdf_real px = SDF_REAL_CAT(vload, SDF_LANES)(0, x), py = SDF_REAL_CAT(vload, SDF_LANES)(0, y),
+                   pz = SDF_REAL_CAT(vload, SDF_LANES)(0, z);
+#endif
     const int wide = saturation > clamp_c;
     const int keep_all = b.edit_count >= untested_from;
     const uint edit_count = keep_all ? 0u : b.edit_count;
-    float field = saturation, excess = 0.0f;
+    sdf_real field = SDF_SPLAT(saturation), excess = SDF_SPLAT(0.0f);
     for (uint base = 0; base < edit_count; base += chunk_size) {
         const uint n = min(chunk_size, edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
         stage_edits(edits, edit_indices + b.edit_offset + base, n, lid, wg, chunk, terms, folds, clamp_c, saturation,
                     threshold, magnitude);
         barrier(CLK_LOCAL_MEM_FENCE);
+#if SDF_LANES == 1
         if (parts == 1u) {
             /* Unrolled, the values overlap. */
 #pragma unroll 4
@@ -127,61 +145,23 @@ __kernel void brick_count(__global const SdfEdit* edits, __global const float* m
                 }
             }
         }
-    }
-    if (part == 0u) kept[mine] = keep_all || child_kept(field, excess, wide, threshold, reject_slack) ? 1u : 0u;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (lid == 0) write_mask(kept, per, split, splits, parent, group, parents, child_counts, split_words);
-}
 #else
-/* With SDF_LANES > 1 (CPU devices): each work-item folds SDF_LANES children at once, lane l holding
- * child lid * SDF_LANES + l of the work-group's `per` (lanes past the last repeat it and are not
- * written); the work-group has ceil(per / SDF_LANES) work-items and no parts (`values` is unused).
- * Every lane does the scalar kernel's operations in the same order: the same bits. With one child
- * per work-item, PoCL ran the fold at a sixth of the evaluation's rate per edit (docs/performance.md). */
-__kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
-                          __global SdfBrick* parents, uint log2b,
-                          float origin_x, float origin_y, float origin_z, float child_cell,
-                          float threshold, float clamp_c, float saturation, float reject_slack,
-                          float magnitude, uint untested_from,
-                          __global uint* child_counts, uint splits, __global uint* split_words,
-                          __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, uint chunk_size,
-                          __local float* values, __local uint* kept) {
-    const uint group = get_group_id(0), parent = group / splits, split = group % splits;
-    const uint lid = get_local_id(0), wg = get_local_size(0);
-    const uint per = (1u << (3u * log2b)) / splits;
-    const SdfBrick b = parents[parent];
-    float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES];
-    for (uint l = 0; l < SDF_LANES; ++l) {
-        const float3 c = child_centre(b, split * per + min(lid * SDF_LANES + l, per - 1u), log2b,
-                                      (float3)(origin_x, origin_y, origin_z), child_cell);
-        x[l] = c.x;
-        y[l] = c.y;
-        z[l] = c.z;
-    }
-    const sdf_real px = SDF_REAL_CAT(vload, SDF_LANES)(0, x), py = SDF_REAL_CAT(vload, SDF_LANES)(0, y),
-                   pz = SDF_REAL_CAT(vload, SDF_LANES)(0, z);
-    const int wide = saturation > clamp_c;
-    const int keep_all = b.edit_count >= untested_from;
-    const uint edit_count = keep_all ? 0u : b.edit_count;
-    sdf_real field = SDF_SPLAT(saturation), excess = SDF_SPLAT(0.0f);
-    for (uint base = 0; base < edit_count; base += chunk_size) {
-        const uint n = min(chunk_size, edit_count - base);
-        barrier(CLK_LOCAL_MEM_FENCE);
-        stage_edits(edits, edit_indices + b.edit_offset + base, n, lid, wg, chunk, terms, folds, clamp_c, saturation,
-                    threshold, magnitude);
-        barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
             const SdfPrepared e = chunk[j];
             fold_step(&field, &excess, terms[j], folds[j], sdf_edit_value(&e, meshes, px, py, pz), wide, saturation);
         }
+#endif
     }
+#if SDF_LANES == 1
+    if (part == 0u) kept[mine] = keep_all || child_kept(field, excess, wide, threshold, reject_slack) ? 1u : 0u;
+#else
     int k[SDF_LANES];
     SDF_REAL_CAT(vstore, SDF_LANES)(child_kept(field, excess, wide, threshold, reject_slack), 0, k);
     for (uint l = 0; l < SDF_LANES && lid * SDF_LANES + l < per; ++l) kept[lid * SDF_LANES + l] = keep_all || k[l] ? 1u : 0u;
+#endif
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) write_mask(kept, per, split, splits, parent, group, parents, child_counts, split_words);
 }
-#endif
 
 /* After a split count: each parent's mask and count from its work-groups' parts (bits of different
  * children, so the or and the sum give what one work-group writes). */

@@ -41,6 +41,26 @@ __kernel void cull_words(__global const SdfBrick* bricks, uint count, __global u
     if (i < count) words[i] = (bricks[i].edit_count + 31u) >> 5;
 }
 
+/* cull_mark_siblings: the words [*from, *to) of a parent's list of n entries that work-group `split`
+ * of `splits` takes (an equal share each). */
+inline void sibling_share(uint n, uint split, uint splits, uint* from, uint* to) {
+    const uint words = (n + 31u) >> 5, share = (words + splits - 1u) / splits;
+    *from = min(words, split * share);
+    *to = min(words, *from + share);
+}
+
+/* cull_mark_siblings: stages the m entries of the list from word w0 on, each edit prepared, with its
+ * reach limit (sdf_reach_limit). */
+inline void stage_words(__global const SdfEdit* edits, __global const uint* list, uint w0, uint m, uint lid, uint wg,
+                        __local SdfPrepared* staged, __local float* limits, float clamp_c, float radius,
+                        float magnitude) {
+    for (uint j = lid; j < m; j += wg) {
+        const SdfEdit e = edits[list[(w0 << 5) + j]];
+        staged[j] = sdf_prepare(e);
+        limits[j] = sdf_reach_limit(&e, clamp_c, radius, magnitude);
+    }
+}
+
 #if SDF_LANES == 1
 /* span bits per work-item (32 / span work-items per word, side by side in one work-group of
  * get_local_size(0), a multiple of 32 / span): each sets the bits of the entries it keeps in its
@@ -96,8 +116,9 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
     const uint first = child_offsets[parent];
     const SdfBrick b0 = bricks[first];
     __global const uint* list = parent_indices + b0.edit_offset;
-    const uint n = b0.edit_count, words = (n + 31u) >> 5, share = (words + splits - 1u) / splits;
-    const uint from = min(words, split * share), to = min(words, from + share);
+    const uint n = b0.edit_count;
+    uint from, to;
+    sibling_share(n, split, splits, &from, &to);
     const uint per_chunk = clamp(wg / kids, 1u, chunk_words); /* words a chunk */
     const uint child = lid % kids, slot = lid / kids; /* the host gives at least B^3 work-items */
     const uint mine = first + child, out = word_offsets[mine];
@@ -107,11 +128,7 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
     for (uint w0 = from; w0 < to; w0 += per_chunk) {
         const uint m = min(min(per_chunk, to - w0) << 5, n - (w0 << 5));
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < m; j += wg) {
-            const SdfEdit e = edits[list[(w0 << 5) + j]];
-            staged[j] = sdf_prepare(e);
-            limits[j] = sdf_reach_limit(&e, clamp_c, radius, magnitude);
-        }
+        stage_words(edits, list, w0, m, lid, wg, staged, limits, clamp_c, radius, magnitude);
         barrier(CLK_LOCAL_MEM_FENCE);
         if (slot < per_chunk && w0 + slot < to) {
             const uint lo = slot << 5, hi = min(lo + 32u, m);
@@ -147,8 +164,9 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
     const uint first = child_offsets[parent];
     const SdfBrick b0 = bricks[first];
     __global const uint* list = parent_indices + b0.edit_offset;
-    const uint n = b0.edit_count, words = (n + 31u) >> 5, share = (words + splits - 1u) / splits;
-    const uint from = min(words, split * share), to = min(words, from + share);
+    const uint n = b0.edit_count;
+    uint from, to;
+    sibling_share(n, split, splits, &from, &to);
     const uint groups = (kids + SDF_LANES - 1u) / SDF_LANES;
     const uint per_chunk = clamp(wg / groups, 1u, chunk_words); /* words a chunk */
     const uint g = lid % groups, slot = lid / groups;
@@ -166,11 +184,7 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
     for (uint w0 = from; w0 < to; w0 += per_chunk) {
         const uint m = min(min(per_chunk, to - w0) << 5, n - (w0 << 5));
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < m; j += wg) {
-            const SdfEdit e = edits[list[(w0 << 5) + j]];
-            staged[j] = sdf_prepare(e);
-            limits[j] = sdf_reach_limit(&e, clamp_c, radius, magnitude);
-        }
+        stage_words(edits, list, w0, m, lid, wg, staged, limits, clamp_c, radius, magnitude);
         barrier(CLK_LOCAL_MEM_FENCE);
         if (slot < per_chunk && w0 + slot < to) {
             const uint lo = slot << 5, hi = min(lo + 32u, m);
