@@ -61,7 +61,7 @@ inline void stage_words(__global const SdfEdit* edits, __global const uint* list
     }
 }
 
-#if SDF_LANES == 1
+#if SDF_LANES == 1 /* a program built with CPU lanes serves cull_mark_siblings alone */
 /* span bits per work-item (32 / span work-items per word, side by side in one work-group of
  * get_local_size(0), a multiple of 32 / span): each sets the bits of the entries it keeps in its
  * word through a __local word (OR: the order does not matter), whose first work-item writes it. */
@@ -96,12 +96,18 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const float* mes
     if (part == 0u && w < total_words) bits[w] = words[slot];
 }
 
+#endif
+
 /* The bits of cull_mark, for new children (brick_subdivide: a parent's kept children lie together at
  * child_offsets[parent], child_counts[parent] of them, and share its list): `splits` work-groups per
  * parent (group = parent * splits + split), each taking an equal share of the list's words. The
  * share is staged through __local memory in chunks of whole words, each edit read and prepared
  * once for all the children; a work-item takes one child and one word of a chunk (children fastest,
- * so the work-items of a word read the same staged edits) and tests its 32 edits. */
+ * so the work-items of a word read the same staged edits) and tests its 32 edits. With SDF_LANES >
+ * 1 (CPU devices) a work-item takes SDF_LANES children instead (lane l: child g * SDF_LANES + l, g =
+ * lid % groups, groups = ceil(children / SDF_LANES); lanes past the last child repeat it and are not
+ * written) and tests the 32 edits at all their centres at once, the one-lane operations in every
+ * lane. */
 __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const float* meshes,
                                  __global const uint* parent_indices, __global const SdfBrick* bricks,
                                  __global const uint* child_offsets, __global const uint* child_counts,
@@ -119,12 +125,28 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
     const uint n = b0.edit_count;
     uint from, to;
     sibling_share(n, split, splits, &from, &to);
+    const float3 origin = (float3)(origin_x, origin_y, origin_z);
+#if SDF_LANES == 1
     const uint per_chunk = clamp(wg / kids, 1u, chunk_words); /* words a chunk */
     const uint child = lid % kids, slot = lid / kids; /* the host gives at least B^3 work-items */
     const uint mine = first + child, out = word_offsets[mine];
     const SdfBrick b = bricks[mine];
-    const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
-                                     (int3)(b.coord[0], b.coord[1], b.coord[2]));
+    const float3 c = sdf_cell_centre(origin, cell, (int3)(b.coord[0], b.coord[1], b.coord[2]));
+#else
+    const uint groups = (kids + SDF_LANES - 1u) / SDF_LANES;
+    const uint per_chunk = clamp(wg / groups, 1u, chunk_words); /* words a chunk */
+    const uint g = lid % groups, slot = lid / groups;
+    float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES];
+    for (uint l = 0; l < SDF_LANES; ++l) {
+        const SdfBrick b = bricks[first + min(g * SDF_LANES + l, kids - 1u)];
+        const float3 c = sdf_cell_centre(origin, cell, (int3)(b.coord[0], b.coord[1], b.coord[2]));
+        x[l] = c.x;
+        y[l] = c.y;
+        z[l] = c.z;
+    }
+    const sdf_real px = SDF_REAL_CAT(vload, SDF_LANES)(0, x), py = SDF_REAL_CAT(vload, SDF_LANES)(0, y),
+                   pz = SDF_REAL_CAT(vload, SDF_LANES)(0, z);
+#endif
     for (uint w0 = from; w0 < to; w0 += per_chunk) {
         const uint m = min(min(per_chunk, to - w0) << 5, n - (w0 << 5));
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -132,6 +154,8 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
         barrier(CLK_LOCAL_MEM_FENCE);
         if (slot < per_chunk && w0 + slot < to) {
             const uint lo = slot << 5, hi = min(lo + 32u, m);
+            const uint source = b0.edit_offset + ((w0 + slot) << 5);
+#if SDF_LANES == 1
             uint word = 0;
             for (uint j = lo; j < hi; ++j) {
                 const SdfPrepared e = staged[j];
@@ -139,55 +163,8 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
                     word |= 1u << (j & 31u);
             }
             bits[out + w0 + slot] = word;
-            sources[out + w0 + slot] = b0.edit_offset + ((w0 + slot) << 5);
-        }
-    }
-}
-
+            sources[out + w0 + slot] = source;
 #else
-/* cull_mark_siblings with SDF_LANES > 1 (CPU devices): a work-item takes SDF_LANES children (lane l:
- * child g * SDF_LANES + l of the parent's, g = lid % groups, where groups = ceil(children /
- * SDF_LANES); lanes past the last child repeat it and are not written) and one word of the chunk,
- * and tests its 32 edits at all their centres at once, the scalar kernel's operations in every
- * lane. The staging and the chunks are the scalar kernel's. */
-__kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const float* meshes,
-                                 __global const uint* parent_indices, __global const SdfBrick* bricks,
-                                 __global const uint* child_offsets, __global const uint* child_counts,
-                                 float origin_x, float origin_y, float origin_z, float cell,
-                                 float radius, float clamp_c, float magnitude,
-                                 __global const uint* word_offsets, __global uint* bits, __global uint* sources,
-                                 __local SdfPrepared* staged, __local float* limits, uint chunk_words, uint splits) {
-    const uint parent = get_group_id(0) / splits, split = get_group_id(0) % splits;
-    const uint lid = get_local_id(0), wg = get_local_size(0);
-    const uint kids = child_counts[parent];
-    if (kids == 0u) return; /* the whole work-group */
-    const uint first = child_offsets[parent];
-    const SdfBrick b0 = bricks[first];
-    __global const uint* list = parent_indices + b0.edit_offset;
-    const uint n = b0.edit_count;
-    uint from, to;
-    sibling_share(n, split, splits, &from, &to);
-    const uint groups = (kids + SDF_LANES - 1u) / SDF_LANES;
-    const uint per_chunk = clamp(wg / groups, 1u, chunk_words); /* words a chunk */
-    const uint g = lid % groups, slot = lid / groups;
-    float x[SDF_LANES], y[SDF_LANES], z[SDF_LANES];
-    for (uint l = 0; l < SDF_LANES; ++l) {
-        const SdfBrick b = bricks[first + min(g * SDF_LANES + l, kids - 1u)];
-        const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
-                                         (int3)(b.coord[0], b.coord[1], b.coord[2]));
-        x[l] = c.x;
-        y[l] = c.y;
-        z[l] = c.z;
-    }
-    const sdf_real px = SDF_REAL_CAT(vload, SDF_LANES)(0, x), py = SDF_REAL_CAT(vload, SDF_LANES)(0, y),
-                   pz = SDF_REAL_CAT(vload, SDF_LANES)(0, z);
-    for (uint w0 = from; w0 < to; w0 += per_chunk) {
-        const uint m = min(min(per_chunk, to - w0) << 5, n - (w0 << 5));
-        barrier(CLK_LOCAL_MEM_FENCE);
-        stage_words(edits, list, w0, m, lid, wg, staged, limits, clamp_c, radius, magnitude);
-        barrier(CLK_LOCAL_MEM_FENCE);
-        if (slot < per_chunk && w0 + slot < to) {
-            const uint lo = slot << 5, hi = min(lo + 32u, m);
             sdf_index word = 0;
             for (uint j = lo; j < hi; ++j) {
                 const SdfPrepared e = staged[j];
@@ -202,12 +179,13 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
             for (uint l = 0; l < SDF_LANES && g * SDF_LANES + l < kids; ++l) {
                 const uint out = word_offsets[first + g * SDF_LANES + l];
                 bits[out + w0 + slot] = (uint)w[l];
-                sources[out + w0 + slot] = b0.edit_offset + ((w0 + slot) << 5);
+                sources[out + w0 + slot] = source;
             }
+#endif
         }
     }
 }
-#endif
+
 
 /* Per brick: with dependencies on, the dependencies of every edit kept by cull_mark that is smooth
  * (and that the inherited list holds; no closure); then the kept count of each of its words
