@@ -30,9 +30,11 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
         radial = radial || ((e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
                             (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT));
     }
-    // Long lists branch once per edit (EVAL_HOIST), and only those skip far edits; the skip's code
-    // costs registers, so only a geometry with sphere or capsule adds or subtracts has it.
-    const bool hoist = mean_list >= BuildSettings::kLongList;
+    // Long lists branch once per edit (EVAL_HOIST), and CPU lanes always do (PoCL here,
+    // docs/measurements/roof/pocl-hoist.txt: board's evaluation 31 -> 25 ms, ground_trees' 394 ->
+    // 323, rain's 144-151 -> 127; same digests); only those skip far edits; the skip's code costs
+    // registers, so only a geometry with sphere or capsule adds or subtracts has it.
+    const bool hoist = lanes > 1 || mean_list >= BuildSettings::kLongList;
     const bool skip_far = hoist && in.settings.skip_far && radial;
     const ocl::Program program = ocl::build_program(
         in.device, "brick_evaluate.cl",
