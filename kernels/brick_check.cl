@@ -20,8 +20,8 @@
  * be beyond the window from a sample (below) are settled at once, and the others are listed with
  * their interpolated values and folded through the brick's list (or, with hard edits only, the one
  * culled again for the children with their saturation clamp_c: the same bits within the window)
- * staged in __local chunks as brick_evaluate does, their coordinates computed in lanes; a work-group stops after the first phase
- * with a failing point.
+ * staged in __local chunks as brick_evaluate does, their coordinates computed in lanes; a
+ * work-group stops after the first phase with a failing point.
  * Writes the brick's worst error (INFINITY when it failed) and whether it passed.
  * Compile-time: SAMPLES, APRON, FORMAT and SDF_LANES (points folded per value) as brick_evaluate. */
 #include "sdf_build.h"
@@ -180,11 +180,10 @@ inline sdf_real point_error(sdf_real interpolated, sdf_real exact, float toleran
 }
 
 /* Lane masks without a trip through memory: bit l of lane_bits is set where lane l of a comparison's
- * result is true; lanes_of turns such bits back into a lane mask; max_lanes is the largest lane. */
+ * result is true; lanes_of turns such bits back into a lane mask. */
 #if SDF_LANES == 1
 inline uint lane_bits(sdf_index c) { return c != 0 ? 1u : 0u; }
 inline sdf_index lanes_of(uint bits) { return (int)(bits & 1u); }
-inline float max_lanes(sdf_real v) { return v; }
 #else
 inline uint lane_bits(sdf_index c) {
     const sdf_index b = c & ((sdf_index)(1) << SDF_LANE_OFFSETS);
@@ -204,22 +203,6 @@ inline uint lane_bits(sdf_index c) {
     return (uint)(b2.x | b2.y);
 }
 inline sdf_index lanes_of(uint bits) { return (((sdf_index)((int)bits) >> SDF_LANE_OFFSETS) & 1) != 0; }
-inline float max_lanes(sdf_real v) { /* halves, as lane_bits: the maximum does not depend on the order */
-#if SDF_LANES == 16
-    const float8 m8 = fmax(v.lo, v.hi);
-    const float4 m4 = fmax(m8.lo, m8.hi);
-#elif SDF_LANES == 8
-    const float4 m4 = fmax(v.lo, v.hi);
-#elif SDF_LANES == 4
-    const float4 m4 = v;
-#endif
-#if SDF_LANES >= 4
-    const float2 m2 = fmax(m4.lo, m4.hi);
-#else
-    const float2 m2 = v;
-#endif
-    return fmax(m2.x, m2.y);
-}
 #endif
 
 /* Folds the errors of a value's lanes in `lanes` (a bit mask) into the work-item's worst error, and
@@ -227,7 +210,7 @@ inline float max_lanes(sdf_real v) { /* halves, as lane_bits: the maximum does n
 inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine, __local int* failed) {
     const sdf_index on = lanes_of(lanes);
     if (lane_bits(on & (error < 0.0f || error > tolerance))) *failed = 1;
-    return fmax(mine, max_lanes(select(SDF_SPLAT(0.0f), error, on)));
+    return fmax(mine, sdf_lanes_max(select(SDF_SPLAT(0.0f), error, on)));
 }
 
 /* Before the samples are evaluated: per brick, whether it reaches a thin edit or has fewer than

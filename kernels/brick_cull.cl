@@ -168,10 +168,8 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const f
             sdf_index word = 0;
             for (uint j = lo; j < hi; ++j) {
                 const SdfPrepared e = staged[j];
-                const sdf_real v = sdf_edit_value(&e, meshes, px, py, pz);
-                const float limit = limits[j];
-                /* sdf_within_reach in every lane */
-                const sdf_index in = ((e.kind >> 8) & 0xffu) == SDF_OP_INTERSECT ? !(v <= -limit) : !(v >= limit);
+                const sdf_index in =
+                    sdf_within_reach((e.kind >> 8) & 0xffu, sdf_edit_value(&e, meshes, px, py, pz), limits[j]);
                 word |= select((sdf_index)(0), (sdf_index)(as_int(1u << (j & 31u))), in);
             }
             int w[SDF_LANES];

@@ -53,30 +53,6 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, int all, _
     for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[owned_index(c + l, all, order)] = (sample_t)lanes[l];
 }
 
-/* The smallest and largest lane of v. */
-#if SDF_LANES == 1
-inline float lanes_min(sdf_real v) { return v; }
-inline float lanes_max(sdf_real v) { return v; }
-#else
-inline float lanes_min(sdf_real v) {
-#if SDF_LANES == 16
-    const float8 v8 = fmin(v.lo, v.hi);
-    const float4 v4 = fmin(v8.lo, v8.hi);
-#elif SDF_LANES == 8
-    const float4 v4 = fmin(v.lo, v.hi);
-#elif SDF_LANES == 4
-    const float4 v4 = v;
-#endif
-#if SDF_LANES >= 4
-    const float2 v2 = fmin(v4.lo, v4.hi);
-#else
-    const float2 v2 = v;
-#endif
-    return fmin(v2.x, v2.y);
-}
-inline float lanes_max(sdf_real v) { return -lanes_min(-v); }
-#endif
-
 /* A sphere (centre xyz, radius w) around the samples of the work-item's first active values (every
  * lane: lanes past the last owned sample repeat it); w includes 2^-20 of the centre's coordinates
  * for the rounding of the centre. */
@@ -91,8 +67,8 @@ inline float4 item_sphere(const sdf_real* px, const sdf_real* py, const sdf_real
             hy = fmax(hy, py[s]);
             hz = fmax(hz, pz[s]);
         }
-    const float3 lo = (float3)(lanes_min(lx), lanes_min(ly), lanes_min(lz));
-    const float3 hi = (float3)(lanes_max(hx), lanes_max(hy), lanes_max(hz));
+    const float3 lo = (float3)(sdf_lanes_min(lx), sdf_lanes_min(ly), sdf_lanes_min(lz));
+    const float3 hi = (float3)(sdf_lanes_max(hx), sdf_lanes_max(hy), sdf_lanes_max(hz));
     const float3 c = 0.5f * (lo + hi), h = hi - c;
     const float w = sqrt(h.x * h.x + h.y * h.y + h.z * h.z) + (fabs(c.x) + fabs(c.y) + fabs(c.z)) * 9.5367431640625e-07f;
     return (float4)(c, w);
@@ -159,8 +135,8 @@ inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound)
         sdf_real extreme = SDF_SPLAT(OP == SDF_OP_ADD ? -INFINITY : INFINITY);                             \
         for (uint s = 0; s < PER_ITEM; ++s)                                                                \
             if (s < active) extreme = OP == SDF_OP_ADD ? fmax(extreme, field[s]) : fmin(extreme, field[s]);    \
-        const float bound = sdf_radial_bound(OP, OP == SDF_OP_ADD ? lanes_max(extreme) : lanes_min(extreme), offset); \
-        if (!item_skips(e, PRIM, item, bound)) {                                                           \
+        const float most = OP == SDF_OP_ADD ? sdf_lanes_max(extreme) : sdf_lanes_min(extreme);            \
+        if (!item_skips(e, PRIM, item, sdf_radial_bound(OP, most, offset))) {                             \
             FOLD_RADIAL_VALUES(PRIM, OP);                                                                  \
         } else if (OP == SDF_OP_SUBTRACT && e->blend > 0.0f) {                                             \
             for (uint s = 0; s < PER_ITEM; ++s)                                                            \

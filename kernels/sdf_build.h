@@ -141,13 +141,15 @@ inline float sdf_reach_limit(const SdfEdit* e, float clamp_c, float radius, floa
     return clamp_c + e->blend + radius + margin;
 }
 
-/* The test of sdf_edit_reaches for an edit of operation op whose limit is sdf_reach_limit. */
-inline int sdf_within_reach(uint op, float v, float limit) {
+/* The test of sdf_edit_reaches for an edit of operation op whose limit is sdf_reach_limit (per lane). */
+inline sdf_index sdf_within_reach(uint op, sdf_real v, float limit) {
     return op == SDF_OP_INTERSECT ? !(v <= -limit) : !(v >= limit);
 }
 
+#if SDF_LANES == 1
 inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
     return sdf_within_reach(e->op, v, sdf_reach_limit(e, clamp_c, radius, magnitude));
 }
+#endif
 
 #endif /* SDFBRICK_SDF_BUILD_H */

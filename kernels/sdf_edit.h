@@ -50,6 +50,29 @@ typedef SDF_REAL_CAT(int, SDF_LANES) sdf_index;
 #endif
 #endif
 
+/* The largest and the smallest lane of v (halves at a time: neither depends on the lanes' order). */
+inline float sdf_lanes_max(sdf_real v) {
+#if SDF_LANES == 1
+    return v;
+#else
+#if SDF_LANES == 16
+    const float8 m8 = fmax(v.lo, v.hi);
+    const float4 m4 = fmax(m8.lo, m8.hi);
+#elif SDF_LANES == 8
+    const float4 m4 = fmax(v.lo, v.hi);
+#elif SDF_LANES == 4
+    const float4 m4 = v;
+#endif
+#if SDF_LANES >= 4
+    const float2 m2 = fmax(m4.lo, m4.hi);
+#else
+    const float2 m2 = v;
+#endif
+    return fmax(m2.x, m2.y);
+#endif
+}
+inline float sdf_lanes_min(sdf_real v) { return -sdf_lanes_max(-v); }
+
 /* The lanes of v into a[0 .. SDF_LANES) in private memory, to be taken one at a time. */
 inline void sdf_spill_lanes(sdf_real v, float* a) {
 #if SDF_LANES == 1

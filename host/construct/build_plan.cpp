@@ -64,8 +64,9 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
         std::max({glm::abs(lo).x, glm::abs(lo).y, glm::abs(lo).z, std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
     p.voxel = s.voxel();
     p.band = static_cast<float>(s.band_voxels * p.voxel);
-    p.hard = largest_blend(g) == 0.0;
-    const double blend = s.guard * largest_blend(g);
+    const double largest = largest_blend(g);
+    p.hard = largest == 0.0;
+    const double blend = s.guard * largest;
     p.clamp_c = float_up(std::max<double>(p.band, p.threshold(p.domain.levels - 1)) * (1.0 + 1.0 / 256.0) + blend);
     p.coarsest_leaf = p.finest();
     p.level_clamp.assign(static_cast<std::size_t>(p.domain.levels), p.clamp_c);

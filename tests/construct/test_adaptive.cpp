@@ -217,9 +217,10 @@ TEST(ConstructAdaptive, CullingRepeatsAndChunksAreBitIdentical) {
     EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), first) << "chunk, group";
 }
 
-// A rounded slab engraved by many small hard box cuts: the coarse candidates' lists are long, and the check
-// fails most of them near the cuts, so their parents are culled again for the next level (CPU
-// devices, lists of 64 edits or more). That must change no bit: culling off gives the same output.
+// A rounded slab engraved by many small hard box cuts: the coarse candidates' lists are long, and
+// the check fails most of them near the cuts, so their parents are culled again for the next level
+// (CPU devices, lists of 64 edits or more). That must change no bit: culling off gives the same
+// output.
 Geometry engraved_geometry() {
     Geometry g;
     g.name = "engraved";

@@ -321,9 +321,9 @@ TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
 }
 
 // Skipping the points where a sphere or capsule edit cannot change the fold (BuildSettings::skip_far:
-// per work-item, then per sample with one lane, per work-item alone in lanes) changes no bit: adds and subtracts, smooth and
-// hard, rotated and scaled, both sample layouts, int8 and float (where the sign of a zero shows),
-// with and without shared aprons, with one lane and with the device's.
+// per work-item, then per sample with one lane, per work-item alone in lanes) changes no bit: adds
+// and subtracts, smooth and hard, rotated and scaled, both sample layouts, int8 and float (where the
+// sign of a zero shows), with and without shared aprons, with one lane and with the device's.
 TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
     Geometry drops = drops_subset(160), carved = carved_geometry();
     for (Edit& e : drops.edits) e.transform.translation *= 0.3;  // the drops closer together
@@ -349,8 +349,8 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
 
 // The count stage's work-items per child (BuildSettings::count_parts: automatic, which on a CPU is a
 // SIMD value of children a work-item, and 2 and 16, which compute the values in turn and fold them
-// in one) and its work-groups per
-// parent (count_splits 2 and 8 with 4 parts: each takes a share of the children) change no bit; nor does
+// in one) and its work-groups per parent (count_splits 2 and 8 with 4 parts: each takes a share of
+// the children) change no bit; nor does
 // culling with dependencies, whose lists the cull stage writes with as many bits per work-item as
 // its levels need (one at the top, up to a word where a level has many bricks); nor does the cull's
 // work-group per parent for its new children (cull_siblings 1: at every level with a parent per compute
