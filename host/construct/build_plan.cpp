@@ -31,8 +31,16 @@ void plan_adaptive(BuildPlan& p, const BuildSettings& s, double blend) {
                                                     "leaf_size {} needs {}",
                                                     s.leaf_size, p.domain.cells_per_axis(p.finest())));
     const double largest = s.max_leaf_size > 0.0 ? s.max_leaf_size : std::numeric_limits<double>::infinity();
+    // A level whose stored values round by more than the tolerance (half a step of the snorm format
+    // over that level's band) cannot keep the bound anywhere: its bricks are never leaves, so they
+    // are neither checked nor culled for their own evaluation.
+    const double steps = s.layout().levels();
+    const auto rounding_fits = [&](int l) {
+        return s.format == BrickFormat::float32 || 0.5 * std::ldexp(double(p.band), p.shift(l)) / steps <= s.tolerance;
+    };
     p.coarsest_leaf = p.finest();
-    while (p.coarsest_leaf > 1 && p.domain.cell_size(p.coarsest_leaf - 1) <= largest) --p.coarsest_leaf;
+    while (p.coarsest_leaf > 1 && p.domain.cell_size(p.coarsest_leaf - 1) <= largest && rounding_fits(p.coarsest_leaf - 1))
+        --p.coarsest_leaf;
     p.tolerance = static_cast<float>(s.tolerance);
     for (int l = p.coarsest_leaf; l < p.finest(); ++l) {
         const double band = std::ldexp(double(p.band), p.shift(l));

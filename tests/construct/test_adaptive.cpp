@@ -126,6 +126,41 @@ TEST(ConstructAdaptive, CoarseLeavesMeetTheToleranceAgainstTheReference) {
     EXPECT_LE(worst, s.tolerance + 1e-5) << "over " << checked << " cell centres of the coarse leaves";
 }
 
+// The check tests the points between the samples, so the coarsest leaf level is the coarsest whose
+// stored values round by at most E (half an int8 step over its band): every sample of every coarse
+// leaf lies within E of the reference (both clamped to the finest band), and the level above it
+// would round by more.
+TEST(ConstructAdaptive, CoarseSamplesRoundWithinTheTolerance) {
+    const Geometry g = shipped_geometry("spheres");
+    const BuildSettings s = adaptive(0.03125, 0.002);
+    const GeometryBuild b = builder().build(g, s, test::recorder());
+    const int log2b = b.branching == 4 ? 2 : 1;
+    const auto rounding = [&](int level) { return 0.5 * std::ldexp(double(b.band), (b.levels - 1 - level) * log2b) / 127.0; };
+    ASSERT_LT(b.coarsest_leaf_level, b.levels - 1);
+    EXPECT_LE(rounding(b.coarsest_leaf_level), s.tolerance);
+    if (b.coarsest_leaf_level > 1) EXPECT_GT(rounding(b.coarsest_leaf_level - 1), s.tolerance);
+    const std::vector<SdfBrick> leaves = b.leaves->read();
+    const std::vector<std::uint8_t> pool = b.pool->read();
+    const double window = b.band;
+    std::size_t samples = 0;
+    double worst = 0.0;
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        const int shift = shift_of(b, leaves[i]);
+        if (shift == 0) continue;
+        const double v = std::ldexp(s.voxel(), shift), step = std::ldexp(double(b.band), shift) / 127.0;
+        const glm::dvec3 first = glm::dvec3(leaves[i].coord[0], leaves[i].coord[1], leaves[i].coord[2]) * 6.0 - 1.0;
+        for (int n = 0; n < 512; ++n) {
+            const glm::dvec3 p = glm::dvec3(b.origin) + (first + glm::dvec3(n % 8, (n / 8) % 8, n / 64) + 0.5) * v;
+            const double exact = std::clamp(reference::evaluate(g, p), -window, window);
+            const double stored = std::clamp(static_cast<std::int8_t>(pool[i * 512 + n]) * step, -window, window);
+            worst = std::max(worst, std::abs(stored - exact));
+            ++samples;
+        }
+    }
+    ASSERT_GT(samples, 0u);
+    EXPECT_LE(worst, s.tolerance + 1e-5) << "over " << samples << " samples of the coarse leaves";
+}
+
 // At every sample of every finest uniform brick that holds the surface, within the band: an
 // adaptive leaf covers it (nothing is missing), its field has the surface's sign where the field is
 // deeper than the tolerance, and differs from the (quantised) exact value by at most 2E, the seam
