@@ -3,7 +3,8 @@
  * sdf_apron.h; brick_apron.cl copies the rest). They are spread over the work-items (up to PER_ITEM
  * values of sdf_real each, SDF_LANES samples per value, held in private memory). The brick's edits
  * are staged through __local memory in chunks of chunk_size: load, barrier, every work-item folds the
- * chunk into its samples, barrier, next chunk. Samples are written to the brick pool clamped to
+ * chunk into its samples, barrier, next chunk. With SKIP_FAR each staged edit has a skip record
+ * beside it in `skips` (two float4: radial_record). Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
  * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below),
@@ -74,19 +75,33 @@ inline float4 item_sphere(const sdf_real* px, const sdf_real* py, const sdf_real
     return (float4)(c, w);
 }
 
-/* Whether every sample of the work-item passes sdf_fold_radial's skip test for a sphere or capsule
- * (prim) edit, bound being that test's bound at the work-item's largest F (an add) or smallest (a
- * subtract), which bounds every sample's. The samples lie within item.w of item.xyz, so in the
- * edit's frame they are at least (|item.xyz - t| - item.w) / scale from its centre, and from a
- * capsule's segment at least that less its half length. The factor 1 + 2^-14 covers the rounding
- * of both tests. */
-inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound) {
-    const float dx = item.x - e->t[0], dy = item.y - e->t[1], dz = item.z - e->t[2];
-    const float g = e->inv_scale * e->out_scale;
-    const float reach =
-        ((item.w * e->inv_scale + (prim == SDF_PRIM_CAPSULE ? fabs(e->prm[0]) : 0.0f)) * e->out_scale + bound) *
-        1.00006103515625f;
-    return (dx * dx + dy * dy + dz * dz) * g * g >= reach * reach;
+/* The skip record of a staged edit (radial_skips reads it): the centre and g = inv_scale out_scale,
+ * then inv_scale, a capsule's half length (0 for a sphere), out_scale and sdf_radial_offset at the
+ * brick's saturation. Computed once per work-group, it saves every work-item the loads and products
+ * of the test (PoCL here: drops' evaluation 8% shorter). */
+inline void radial_record(const SdfPrepared* e, float clamp_c, __local float4* r) {
+    const uint prim = e->kind & 0xffu;
+    const int radial = prim == SDF_PRIM_SPHERE || prim == SDF_PRIM_CAPSULE;
+    r[0] = (float4)(e->t[0], e->t[1], e->t[2], e->inv_scale * e->out_scale);
+    r[1] = (float4)(e->inv_scale, prim == SDF_PRIM_CAPSULE ? fabs(e->prm[0]) : 0.0f, e->out_scale,
+                    radial ? sdf_radial_offset(e, prim, clamp_c) : 0.0f);
+}
+
+/* Whether every sample of the work-item passes sdf_fold_radial's skip test for the sphere or capsule
+ * edit of operation op whose record is r, bound being that test's bound at the work-item's largest F
+ * (an add) or smallest (a subtract), which bounds every sample's. The samples lie within item.w of
+ * item.xyz, so in the edit's frame they are at least (|item.xyz - t| - item.w) / scale from its
+ * centre, and from a capsule's segment at least that less its half length. The factor 1 + 2^-14
+ * covers the rounding of both tests. */
+inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf_real* field, uint active) {
+    sdf_real extreme = SDF_SPLAT(op == SDF_OP_ADD ? -INFINITY : INFINITY);
+    for (uint s = 0; s < PER_ITEM; ++s)
+        if (s < active) extreme = op == SDF_OP_ADD ? fmax(extreme, field[s]) : fmin(extreme, field[s]);
+    const float most = op == SDF_OP_ADD ? sdf_lanes_max(extreme) : sdf_lanes_min(extreme);
+    const float4 a = r[0], b = r[1];
+    const float dx = item.x - a.x, dy = item.y - a.y, dz = item.z - a.z;
+    const float reach = ((item.w * b.x + b.y) * b.z + sdf_radial_bound(op, most, b.w)) * 1.00006103515625f;
+    return (dx * dx + dy * dy + dz * dz) * a.w * a.w >= reach * reach;
 }
 
 /* EVAL_PRIMS and EVAL_OPS: bit p set for each primitive p, bit o for each operation o that the
@@ -118,43 +133,25 @@ inline int item_skips(const SdfPrepared* e, uint prim, float4 item, float bound)
         case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_VALUES(PRIM, SDF_OP_SUBTRACT); break;      \
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
-/* A sphere or capsule (PRIM) edit of operation OP: the skip test for the whole work-item first
- * (where it passes, every value keeps what the fold gives there: sdf_radial_kept), then with one
- * lane sdf_fold_radial per value, in lanes the whole fold. On an H200, drops' evaluation (no shared
- * aprons) took 5.15 ms with the per-value test alone and 3.70 with both (docs/performance.md). */
-#if SDF_LANES == 1
+/* A sphere or capsule (PRIM) edit that the work-item's skip test (radial_skips, in the loop over the
+ * chunk) did not skip: with one lane sdf_fold_radial per value, in lanes the whole fold. On an H200,
+ * drops' evaluation (no shared aprons) took 5.15 ms with the per-value test alone and 3.70 with both
+ * (docs/performance.md). */
+#if SKIP_FAR && SDF_LANES == 1
 #define FOLD_RADIAL_VALUES(PRIM, OP)                                                                       \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
         if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, field[s], px[s], py[s], pz[s], clamp_c, offset)
-#else
-#define FOLD_RADIAL_VALUES(PRIM, OP) FOLD_VALUES(PRIM, OP)
-#endif
-#define FOLD_RADIAL_OP(PRIM, OP)                                                                           \
-    {                                                                                                      \
-        const float offset = sdf_radial_offset(e, PRIM, clamp_c);                                          \
-        sdf_real extreme = SDF_SPLAT(OP == SDF_OP_ADD ? -INFINITY : INFINITY);                             \
-        for (uint s = 0; s < PER_ITEM; ++s)                                                                \
-            if (s < active) extreme = OP == SDF_OP_ADD ? fmax(extreme, field[s]) : fmin(extreme, field[s]);    \
-        const float most = OP == SDF_OP_ADD ? sdf_lanes_max(extreme) : sdf_lanes_min(extreme);            \
-        if (!item_skips(e, PRIM, item, sdf_radial_bound(OP, most, offset))) {                             \
-            FOLD_RADIAL_VALUES(PRIM, OP);                                                                  \
-        } else if (OP == SDF_OP_SUBTRACT && e->blend > 0.0f) {                                             \
-            for (uint s = 0; s < PER_ITEM; ++s)                                                            \
-                if (s < active) field[s] = sdf_radial_kept(e, OP, field[s]);                               \
-        }                                                                                                  \
-    }
-#if SKIP_FAR
 #define FOLD_RADIAL(PRIM)                                                                                  \
     switch (op) {                                                                                          \
-        case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) FOLD_RADIAL_OP(PRIM, SDF_OP_ADD); break;                  \
-        case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_RADIAL_OP(PRIM, SDF_OP_SUBTRACT); break;   \
+        case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) FOLD_RADIAL_VALUES(PRIM, SDF_OP_ADD); break;              \
+        case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_RADIAL_VALUES(PRIM, SDF_OP_SUBTRACT); break; \
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
 #else
-#define FOLD_RADIAL(PRIM) FOLD_PRIM(PRIM) /* SKIP_FAR 0: every sample is evaluated */
+#define FOLD_RADIAL(PRIM) FOLD_PRIM(PRIM) /* in lanes, or SKIP_FAR 0: every sample is evaluated */
 #endif
 inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
-                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float4 item) {
+                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float offset) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
 #if EVAL_HOIST
     switch (prim) {
@@ -179,7 +176,8 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
                              float origin_x, float origin_y, float origin_z, float finest_voxel,
                              __global const float* level_clamp, float finest_band, float finest_quant_scale,
                              uint finest, uint log2b,
-                             __global sample_t* pool, __local SdfPrepared* chunk, uint chunk_size) {
+                             __global sample_t* pool, __local SdfPrepared* chunk, __local float4* skips,
+                             uint chunk_size) {
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
@@ -210,17 +208,38 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     }
 #if SKIP_FAR
     const float4 item = item_sphere(px, py, pz, active);
-#else
-    const float4 item = (float4)(0.0f); /* unused: FOLD_RADIAL */
 #endif
     for (uint base = 0; base < b.edit_count; base += chunk_size) {
         const uint n = min(chunk_size, b.edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
-        for (uint j = lid; j < n; j += wg) chunk[j] = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
+        for (uint j = lid; j < n; j += wg) {
+            const SdfPrepared e = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
+            chunk[j] = e;
+#if SKIP_FAR
+            radial_record(&e, clamp_c, skips + 2 * j);
+#endif
+        }
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
+#if SKIP_FAR
+            /* The skip test for the whole work-item: where it passes, every value keeps what the fold
+             * gives there (sdf_radial_kept: a smooth subtract turns -0 into +0). */
+            const uint kind = chunk[j].kind, prim = kind & 0xffu, op = (kind >> 8) & 0xffu;
+            if (((prim == SDF_PRIM_SPHERE && HAS_PRIM(SDF_PRIM_SPHERE)) ||
+                 (prim == SDF_PRIM_CAPSULE && HAS_PRIM(SDF_PRIM_CAPSULE))) &&
+                ((op == SDF_OP_ADD && HAS_OP(SDF_OP_ADD)) || (op == SDF_OP_SUBTRACT && HAS_OP(SDF_OP_SUBTRACT))) &&
+                radial_skips(skips + 2 * j, op, item, field, active)) {
+                if (op == SDF_OP_SUBTRACT && chunk[j].blend > 0.0f)
+                    for (uint s = 0; s < PER_ITEM; ++s)
+                        if (s < active) field[s] = field[s] + 0.0f;
+                continue;
+            }
+            const float offset = skips[2 * j + 1].w;
+#else
+            const float offset = 0.0f; /* unused */
+#endif
             const SdfPrepared e = chunk[j];
-            fold_values(&e, meshes, field, px, py, pz, clamp_c, active, item);
+            fold_values(&e, meshes, field, px, py, pz, clamp_c, active, offset);
         }
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;

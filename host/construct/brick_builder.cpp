@@ -62,7 +62,7 @@ void BuildSettings::validate(const ocl::DeviceInfo& device) const {
         throw SettingError("tolerance", fmt::format("tolerance must be a positive number, got {}", tolerance));
     if (!(max_leaf_size >= 0.0) || !std::isfinite(max_leaf_size))
         throw SettingError("max_leaf_size", fmt::format("max_leaf_size must be a positive number, got {}", max_leaf_size));
-    const std::uint64_t local = static_cast<std::uint64_t>(chunk) * sizeof(SdfEdit) + 64 * sizeof(cl_uint);
+    const std::uint64_t local = evaluation_local_bytes(chunk);
     if (local > device.local_mem_bytes)
         throw SettingError("chunk", fmt::format("chunk {} needs {} bytes of local memory; {} has {}", chunk, local,
                                                 device.name, device.local_mem_bytes));

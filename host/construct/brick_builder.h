@@ -103,6 +103,11 @@ struct BuildSettings {
     // (kernels/brick_evaluate.cl; measured on an H200 between rain's 8 and drops' 23 edits).
     static constexpr int kLongList = 16;
     double voxel() const { return leaf_size / layout().interior(); }
+    // The leaf evaluation's __local memory for a chunk: the staged edits, their skip records (two
+    // float4 each) and 64 uints of bookkeeping.
+    static std::uint64_t evaluation_local_bytes(int chunk) {
+        return static_cast<std::uint64_t>(chunk) * (sizeof(SdfEdit) + 2 * sizeof(cl_float4)) + 64 * sizeof(cl_uint);
+    }
     // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;
 };

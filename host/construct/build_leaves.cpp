@@ -48,6 +48,7 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
                   in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp, in.plan.band,
                   layout.quantise_scale(in.plan.band), static_cast<cl_uint>(in.plan.finest()), in.plan.log2b, pool,
                   ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfEdit)},
+                  ocl::LocalMemory{(skip_far ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1) * sizeof(cl_float4)},
                   static_cast<cl_uint>(in.settings.chunk));
     in.scheduler.launch(stage, level, kernel.get(), count * group, group);
 }

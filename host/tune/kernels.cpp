@@ -40,7 +40,7 @@ std::string validate_build(const Config& c, const ocl::DeviceInfo& device) {
 }
 
 // brick_evaluate: each work-group evaluates one brick, staging `chunk` edits at a time in __local
-// memory (brick_count stages the same chunk); 64 uints of bookkeeping besides. registers: the cap on
+// memory (brick_count stages the same chunk) with their skip records, and 64 uints of bookkeeping. registers: the cap on
 // registers per work-item (0: none), on NVIDIA's compiler only; on an H100 a cap of 64 took drops'
 // evaluation from 3.00 to 2.93 ms and rubble's from 12.66 to 12.15, with the same bits
 // (docs/performance.md).
@@ -56,7 +56,7 @@ TunedKernel make_evaluate() {
     k.work = pipeline::Work::construct;
     k.work_items = [](const Config& c) { return static_cast<std::size_t>(c.at("group")); };
     k.local_mem_bytes = [](const Config& c) {
-        return static_cast<std::uint64_t>(c.at("chunk")) * sizeof(SdfEdit) + 64 * sizeof(cl_uint);
+        return construct::BuildSettings::evaluation_local_bytes(c.at("chunk"));
     };
     k.check = [](const Config& c) { return validate_build(c, unbounded_device()); };
     k.check_device = [](const Config& c, const ocl::DeviceInfo& d) { return validate_build(c, d); };
