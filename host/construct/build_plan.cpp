@@ -39,7 +39,8 @@ void plan_adaptive(BuildPlan& p, const BuildSettings& s, double blend) {
         return s.format == BrickFormat::float32 || 0.5 * std::ldexp(double(p.band), p.shift(l)) / steps <= s.tolerance;
     };
     p.coarsest_leaf = p.finest();
-    while (p.coarsest_leaf > 1 && p.domain.cell_size(p.coarsest_leaf - 1) <= largest && rounding_fits(p.coarsest_leaf - 1))
+    while (p.coarsest_leaf > 1 && p.domain.cell_size(p.coarsest_leaf - 1) <= largest &&
+           rounding_fits(p.coarsest_leaf - 1))
         --p.coarsest_leaf;
     p.tolerance = static_cast<float>(s.tolerance);
     for (int l = p.coarsest_leaf; l < p.finest(); ++l) {

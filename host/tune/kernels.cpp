@@ -40,10 +40,10 @@ std::string validate_build(const Config& c, const ocl::DeviceInfo& device) {
 }
 
 // brick_evaluate: each work-group evaluates one brick, staging `chunk` edits at a time in __local
-// memory (brick_count stages the same chunk) with their skip records, and 64 uints of bookkeeping. registers: the cap on
-// registers per work-item (0: none), on NVIDIA's compiler only; on an H100 a cap of 64 took drops'
-// evaluation from 3.00 to 2.93 ms and rubble's from 12.66 to 12.15, with the same bits
-// (docs/performance.md).
+// memory (brick_count stages the same chunk) with their skip records, and 64 uints of bookkeeping.
+// registers: the cap on registers per work-item (0: none), on NVIDIA's compiler only; on an H100 a
+// cap of 64 took drops' evaluation from 3.00 to 2.93 ms and rubble's from 12.66 to 12.15, with the
+// same bits (docs/performance.md).
 TunedKernel make_evaluate() {
     TunedKernel k;
     k.name = kEvaluateKernel;

@@ -135,7 +135,9 @@ TEST(ConstructAdaptive, CoarseSamplesRoundWithinTheTolerance) {
     const BuildSettings s = adaptive(0.03125, 0.002);
     const GeometryBuild b = builder().build(g, s, test::recorder());
     const int log2b = b.branching == 4 ? 2 : 1;
-    const auto rounding = [&](int level) { return 0.5 * std::ldexp(double(b.band), (b.levels - 1 - level) * log2b) / 127.0; };
+    const auto rounding = [&](int level) {
+        return 0.5 * std::ldexp(double(b.band), (b.levels - 1 - level) * log2b) / 127.0;
+    };
     ASSERT_LT(b.coarsest_leaf_level, b.levels - 1);
     EXPECT_LE(rounding(b.coarsest_leaf_level), s.tolerance);
     if (b.coarsest_leaf_level > 1) EXPECT_GT(rounding(b.coarsest_leaf_level - 1), s.tolerance);
