@@ -25,7 +25,8 @@ void BuildFlags::add_to(CLI::App* cmd) {
         ->check(finite_number())
         ->excludes(tolerance_);
     cmd->add_option("--max-brick-size", s.max_leaf_size,
-                    "adaptive: the largest leaf brick (default: no limit; the check decides how large a leaf may be)")
+                    "adaptive: the largest leaf brick (default: as large as the format's rounding allows within "
+                    "the tolerance; the check decides)")
         ->check(finite_number());
     cmd->add_option("--levels", s.levels, "number of levels (default: the fewest that cover the geometry)");
     cmd->add_option("--branching", s.branching, "children per axis: 4 or 2 (octree)")->capture_default_str();

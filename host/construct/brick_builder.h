@@ -90,7 +90,7 @@ struct BuildSettings {
     // finest brick, and a brick of a coarser level whose samples reproduce the field within
     // tolerance (geometry units) at every check point is a leaf; 0 = uniform (every leaf leaf_size).
     double tolerance = 0.0;
-    double max_leaf_size = 0.0;   // adaptive: the largest leaf brick (0: no limit, the check decides)
+    double max_leaf_size = 0.0;   // adaptive: the largest leaf brick (0: the largest whose rounding fits the tolerance)
     // Host bytes the caller will hold per leaf brick once the build is done (an export's copy and
     // grids); 0: none. With it, a build whose projected leaves would not fit in the host memory
     // available (ocl::host_memory_available) is refused at the level that shows it, before the leaves.
