@@ -3,14 +3,15 @@
  * sdf_apron.h; brick_apron.cl copies the rest). They are spread over the work-items (up to PER_ITEM
  * values of sdf_real each, SDF_LANES samples per value, held in private memory). The brick's edits
  * are staged through __local memory in chunks of chunk_size: load, barrier, every work-item folds the
- * chunk into its samples, barrier, next chunk. With SKIP_FAR each staged edit has a skip record
+ * chunk into its samples, barrier, next chunk. With SKIP_RECORDS each staged edit has a skip record
  * beside it in `skips` (two float4: radial_record). Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
  * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below),
  * APRON_SHARED (0: every leaf owns all its samples, and the kernel reads no owned_regions),
  * SKIP_FAR (1: sphere and capsule edits skip the work-items, and with one lane the samples, they
- * cannot change, below),
+ * cannot change, below), SKIP_RECORDS (1 only with SKIP_FAR and lanes: the work-item's test reads
+ * skip records, below),
  * EVAL_PRIMS and EVAL_OPS (the primitives and operations whose folds are compiled, below).
  * Lane l of value s of work-item lid holds owned sample (s * local size + lid) * lanes + l (with one
  * lane, consecutive work-items hold consecutive samples); a value whose first lane is past the last
@@ -75,33 +76,58 @@ inline float4 item_sphere(const sdf_real* px, const sdf_real* py, const sdf_real
     return (float4)(c, w);
 }
 
-/* The skip record of a staged edit (radial_skips reads it): the centre and g = inv_scale out_scale,
- * then inv_scale, a capsule's half length (0 for a sphere), out_scale and sdf_radial_offset at the
- * brick's saturation. Computed once per work-group, it saves every work-item the loads and products
- * of the test (PoCL here: drops' evaluation 13% shorter, docs/performance.md). */
-inline void radial_record(const SdfPrepared* e, float clamp_c, __local float4* r) {
-    const uint prim = e->kind & 0xffu;
-    const int radial = prim == SDF_PRIM_SPHERE || prim == SDF_PRIM_CAPSULE;
-    r[0] = (float4)(e->t[0], e->t[1], e->t[2], e->inv_scale * e->out_scale);
-    r[1] = (float4)(e->inv_scale, prim == SDF_PRIM_CAPSULE ? fabs(e->prm[0]) : 0.0f, e->out_scale,
-                    radial ? sdf_radial_offset(e, prim, clamp_c) : 0.0f);
+/* The skip record of a sphere or capsule (prim) edit: the centre and g = inv_scale out_scale, then
+ * inv_scale, a capsule's half length (0 for a sphere), out_scale and sdf_radial_offset at the
+ * brick's saturation. */
+inline void radial_values(const SdfPrepared* e, uint prim, float clamp_c, float4* a, float4* b) {
+    *a = (float4)(e->t[0], e->t[1], e->t[2], e->inv_scale * e->out_scale);
+    *b = (float4)(e->inv_scale, prim == SDF_PRIM_CAPSULE ? fabs(e->prm[0]) : 0.0f, e->out_scale,
+                  sdf_radial_offset(e, prim, clamp_c));
 }
 
-/* Whether every sample of the work-item passes sdf_fold_radial's skip test for the sphere or capsule
- * edit of operation op whose record is r, bound being that test's bound at the work-item's largest F
- * (an add) or smallest (a subtract), which bounds every sample's. The samples lie within item.w of
- * item.xyz, so in the edit's frame they are at least (|item.xyz - t| - item.w) / scale from its
- * centre, and from a capsule's segment at least that less its half length. The factor 1 + 2^-14
- * covers the rounding of both tests. */
-inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf_real* field, uint active) {
+/* The work-item's largest F (an add, op) or smallest (a subtract), which bounds every sample's. */
+inline float item_extreme(uint op, const sdf_real* field, uint active) {
     sdf_real extreme = SDF_SPLAT(op == SDF_OP_ADD ? -INFINITY : INFINITY);
     for (uint s = 0; s < PER_ITEM; ++s)
         if (s < active) extreme = op == SDF_OP_ADD ? fmax(extreme, field[s]) : fmin(extreme, field[s]);
-    const float most = op == SDF_OP_ADD ? sdf_lanes_max(extreme) : sdf_lanes_min(extreme);
-    const float4 a = r[0], b = r[1];
+    return op == SDF_OP_ADD ? sdf_lanes_max(extreme) : sdf_lanes_min(extreme);
+}
+
+/* Whether every sample of the work-item passes sdf_fold_radial's skip test for the sphere or capsule
+ * edit whose record is (a, b), bound being that test's bound at item_extreme. The samples lie within
+ * item.w of item.xyz, so in the edit's frame they are at least (|item.xyz - t| - item.w) / scale from
+ * its centre, and from a capsule's segment at least that less its half length. The factor 1 + 2^-14
+ * covers the rounding of both tests. */
+inline int item_beyond(float4 a, float4 b, float4 item, float bound) {
     const float dx = item.x - a.x, dy = item.y - a.y, dz = item.z - a.z;
-    const float reach = ((item.w * b.x + b.y) * b.z + sdf_radial_bound(op, most, b.w)) * 1.00006103515625f;
+    const float reach = ((item.w * b.x + b.y) * b.z + bound) * 1.00006103515625f;
     return (dx * dx + dy * dy + dz * dz) * a.w * a.w >= reach * reach;
+}
+
+/* With CPU lanes (SKIP_RECORDS) the work-group writes each staged edit's record once into __local
+ * memory, which saves every work-item the loads and products of the test (PoCL here: drops'
+ * evaluation 13% shorter, docs/performance.md), and the test runs in the loop over the chunk. With
+ * one lane (GPUs) the records' local memory cost more than that (an H100: drops' evaluation 3.00 ->
+ * 3.47 ms), and the test runs inside the fold, per primitive (FOLD_RADIAL_OP). */
+inline void radial_record(const SdfPrepared* e, float clamp_c, __local float4* r) {
+    const uint prim = e->kind & 0xffu;
+    float4 a = (float4)(0.0f), b = (float4)(0.0f);
+    if (prim == SDF_PRIM_SPHERE || prim == SDF_PRIM_CAPSULE) radial_values(e, prim, clamp_c, &a, &b);
+    r[0] = a;
+    r[1] = b;
+}
+inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf_real* field, uint active) {
+    const float most = item_extreme(op, field, active);
+    const float4 a = r[0], b = r[1];
+    return item_beyond(a, b, item, sdf_radial_bound(op, most, b.w));
+}
+
+/* Where the test passed, every value keeps what the fold gives there (sdf_radial_kept: a smooth
+ * subtract turns -0 into +0). */
+inline void radial_kept_values(uint op, float blend, sdf_real* field, uint active) {
+    if (op == SDF_OP_SUBTRACT && blend > 0.0f)
+        for (uint s = 0; s < PER_ITEM; ++s)
+            if (s < active) field[s] = field[s] + 0.0f;
 }
 
 /* EVAL_PRIMS and EVAL_OPS: bit p set for each primitive p, bit o for each operation o that the
@@ -118,6 +144,9 @@ inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf
 #define HAS_PRIM(P) (((EVAL_PRIMS) >> (P)) & 1u)
 #define HAS_OP(O) (((EVAL_OPS) >> (O)) & 1u)
 #define HAS_OTHER_OP (((EVAL_OPS) & ~((1u << SDF_OP_ADD) | (1u << SDF_OP_SUBTRACT))) != 0u)
+#if SKIP_RECORDS && !(SKIP_FAR && SDF_LANES > 1)
+#error "skip records serve the work-item test in lanes only"
+#endif
 
 /* Folds edit e into this work-item's first active values. With EVAL_HOIST 1 the primitive and
  * operation are branched on once per edit, outside the loop over the values; with 0 once per value.
@@ -133,25 +162,35 @@ inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf
         case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_VALUES(PRIM, SDF_OP_SUBTRACT); break;      \
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
-/* A sphere or capsule (PRIM) edit that the work-item's skip test (radial_skips, in the loop over the
- * chunk) did not skip: with one lane sdf_fold_radial per value, in lanes the whole fold. On an H200,
- * drops' evaluation (no shared aprons) took 5.15 ms with the per-value test alone and 3.70 with both
- * (docs/performance.md). */
+/* A sphere or capsule (PRIM) edit of operation OP with one lane: the work-item's skip test first
+ * (item_beyond), then sdf_fold_radial per value where it failed. In lanes the test ran in the loop
+ * over the chunk (radial_skips) and the whole fold follows. On an H200, drops' evaluation (no shared
+ * aprons) took 5.15 ms with the per-value test alone and 3.70 with both (docs/performance.md). */
 #if SKIP_FAR && SDF_LANES == 1
 #define FOLD_RADIAL_VALUES(PRIM, OP)                                                                       \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
-        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, field[s], px[s], py[s], pz[s], clamp_c, offset)
+        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, field[s], px[s], py[s], pz[s], clamp_c, b.w)
+#define FOLD_RADIAL_OP(PRIM, OP)                                                                           \
+    {                                                                                                      \
+        float4 a, b;                                                                                       \
+        radial_values(e, PRIM, clamp_c, &a, &b);                                                           \
+        if (!item_beyond(a, b, item, sdf_radial_bound(OP, item_extreme(OP, field, active), b.w))) {       \
+            FOLD_RADIAL_VALUES(PRIM, OP);                                                                  \
+        } else {                                                                                           \
+            radial_kept_values(OP, e->blend, field, active);                                               \
+        }                                                                                                  \
+    }
 #define FOLD_RADIAL(PRIM)                                                                                  \
     switch (op) {                                                                                          \
-        case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) FOLD_RADIAL_VALUES(PRIM, SDF_OP_ADD); break;              \
-        case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_RADIAL_VALUES(PRIM, SDF_OP_SUBTRACT); break; \
+        case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) FOLD_RADIAL_OP(PRIM, SDF_OP_ADD); break;                  \
+        case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_RADIAL_OP(PRIM, SDF_OP_SUBTRACT); break;   \
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
 #else
 #define FOLD_RADIAL(PRIM) FOLD_PRIM(PRIM) /* in lanes, or SKIP_FAR 0: every sample is evaluated */
 #endif
 inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
-                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float offset) {
+                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float4 item) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
 #if EVAL_HOIST
     switch (prim) {
@@ -208,6 +247,8 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
     }
 #if SKIP_FAR
     const float4 item = item_sphere(px, py, pz, active);
+#else
+    const float4 item = (float4)(0.0f); /* unused */
 #endif
     for (uint base = 0; base < b.edit_count; base += chunk_size) {
         const uint n = min(chunk_size, b.edit_count - base);
@@ -215,31 +256,25 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
         for (uint j = lid; j < n; j += wg) {
             const SdfPrepared e = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
             chunk[j] = e;
-#if SKIP_FAR
+#if SKIP_RECORDS
             radial_record(&e, clamp_c, skips + 2 * j);
 #endif
         }
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = 0; j < n; ++j) {
-#if SKIP_FAR
-            /* The skip test for the whole work-item: where it passes, every value keeps what the fold
-             * gives there (sdf_radial_kept: a smooth subtract turns -0 into +0). */
+#if SKIP_RECORDS
+            /* The skip test for the whole work-item, from the edit's record (in lanes). */
             const uint kind = chunk[j].kind, prim = kind & 0xffu, op = (kind >> 8) & 0xffu;
             if (((prim == SDF_PRIM_SPHERE && HAS_PRIM(SDF_PRIM_SPHERE)) ||
                  (prim == SDF_PRIM_CAPSULE && HAS_PRIM(SDF_PRIM_CAPSULE))) &&
                 ((op == SDF_OP_ADD && HAS_OP(SDF_OP_ADD)) || (op == SDF_OP_SUBTRACT && HAS_OP(SDF_OP_SUBTRACT))) &&
                 radial_skips(skips + 2 * j, op, item, field, active)) {
-                if (op == SDF_OP_SUBTRACT && chunk[j].blend > 0.0f)
-                    for (uint s = 0; s < PER_ITEM; ++s)
-                        if (s < active) field[s] = field[s] + 0.0f;
+                radial_kept_values(op, chunk[j].blend, field, active);
                 continue;
             }
-            const float offset = skips[2 * j + 1].w;
-#else
-            const float offset = 0.0f; /* unused */
 #endif
             const SdfPrepared e = chunk[j];
-            fold_values(&e, meshes, field, px, py, pz, clamp_c, active, offset);
+            fold_values(&e, meshes, field, px, py, pz, clamp_c, active, item);
         }
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;

@@ -36,20 +36,23 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
     // registers, so only a geometry with sphere or capsule adds or subtracts has it.
     const bool hoist = lanes > 1 || mean_list >= BuildSettings::kLongList;
     const bool skip_far = hoist && in.settings.skip_far && radial;
+    // The work-item's skip test reads records in local memory with CPU lanes (BuildSettings::skip_records).
+    const bool records = skip_far && BuildSettings::skip_records(static_cast<int>(lanes));
     const ocl::Program program = ocl::build_program(
         in.device, "brick_evaluate.cl",
-        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} -DEVAL_PRIMS={}u "
-                    "-DEVAL_OPS={}u",
-                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0, prims, ops) +
+        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} "
+                    "-DSKIP_RECORDS={} -DEVAL_PRIMS={}u -DEVAL_OPS={}u",
+                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0,
+                    records ? 1 : 0, prims, ops) +
             ocl::register_cap_option(in.device.info(), in.settings.eval_registers));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
-    const std::size_t records = skip_far ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1;  // float4 each
+    const std::size_t record_count = records ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1;  // float4 each
     ocl::set_args(kernel.get(), in.edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
                   in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp, in.plan.band,
                   layout.quantise_scale(in.plan.band), static_cast<cl_uint>(in.plan.finest()), in.plan.log2b, pool,
                   ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfEdit)},
-                  ocl::LocalMemory{records * sizeof(cl_float4)},
+                  ocl::LocalMemory{record_count * sizeof(cl_float4)},
                   static_cast<cl_uint>(in.settings.chunk));
     in.scheduler.launch(stage, level, kernel.get(), count * group, group);
 }
