@@ -322,9 +322,9 @@ TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
 
 // Skipping the points where a sphere or capsule edit cannot change the fold (BuildSettings::skip_far:
 // per work-item, then per sample with one lane, per work-item alone in lanes; the work-item's test
-// from skip records in lanes, from the staged edit with one lane) changes no bit: adds
-// and subtracts, smooth and hard, rotated and scaled, both sample layouts, int8 and float (where the
-// sign of a zero shows), with and without shared aprons, with one lane and with the device's.
+// from skip records in lanes, from the staged edit with one lane) changes no bit: adds and
+// subtracts, smooth and hard, rotated and scaled, both sample layouts, int8 and float (where the sign
+// of a zero shows), with and without shared aprons, with one lane and with the device's.
 TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
     Geometry drops = drops_subset(160), carved = carved_geometry();
     for (Edit& e : drops.edits) e.transform.translation *= 0.3;  // the drops closer together
