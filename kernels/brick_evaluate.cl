@@ -125,9 +125,8 @@ inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf
 /* Where the test passed, every value keeps what the fold gives there (sdf_radial_kept: a smooth
  * subtract turns -0 into +0). */
 inline void radial_kept_values(uint op, float blend, sdf_real* field, uint active) {
-    if (op == SDF_OP_SUBTRACT && blend > 0.0f)
-        for (uint s = 0; s < PER_ITEM; ++s)
-            if (s < active) field[s] = field[s] + 0.0f;
+    for (uint s = 0; s < PER_ITEM; ++s)
+        if (s < active) field[s] = sdf_radial_kept(blend, op, field[s]);
 }
 
 /* EVAL_PRIMS and EVAL_OPS: bit p set for each primitive p, bit o for each operation o that the

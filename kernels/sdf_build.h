@@ -46,8 +46,8 @@ inline float sdf_radial_bound(uint op, float field, float offset) {
     return fmax((op == SDF_OP_ADD ? field : -field) + offset, 0.0f);
 }
 /* What the fold gives where a sphere or capsule edit of operation op cannot change it (above). */
-inline sdf_real sdf_radial_kept(const SdfPrepared* e, uint op, sdf_real field) {
-    return op == SDF_OP_ADD || !(e->blend > 0.0f) ? field : field + 0.0f;
+inline sdf_real sdf_radial_kept(float blend, uint op, sdf_real field) {
+    return op == SDF_OP_ADD || !(blend > 0.0f) ? field : field + 0.0f;
 }
 
 #if SDF_LANES == 1
@@ -60,7 +60,7 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float fie
     if (prim == SDF_PRIM_CAPSULE) dy = dy - clamp(dy, -e->prm[0], e->prm[0]);
     const float d2 = dx * dx + dy * dy + dz * dz; /* sdf_norm3's sum */
     const float bound = sdf_radial_bound(op, field, offset);
-    if (d2 * e->out_scale * e->out_scale >= bound * bound) return sdf_radial_kept(e, op, field);
+    if (d2 * e->out_scale * e->out_scale >= bound * bound) return sdf_radial_kept(e->blend, op, field);
     const float v = (sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0])) * e->out_scale;
     return fmin(fmax(sdf_combine_of(e, op, field, v), -clamp_c), clamp_c);
 }
