@@ -152,13 +152,21 @@ inline void radial_kept_values(uint op, float blend, sdf_real* field, uint activ
  * The host hoists for long lists: on an H200 (docs/performance.md) hoisting took drops' evaluation
  * (23 edits a leaf) from 8.76 ms to 6.54, and rain's (8), which the extra registers cost more than
  * the branches, from 2.58 to 2.98. */
-#define FOLD_VALUES(PRIM, OP)                                                                              \
+#define FOLD_UNIT_VALUES(PRIM, OP, UNIT)                                                                   \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
-        if (s < active) field[s] = sdf_fold_of(e, PRIM, OP, meshes, field[s], px[s], py[s], pz[s], clamp_c)
+        if (s < active) field[s] = sdf_fold_unit(e, PRIM, OP, UNIT, meshes, field[s], px[s], py[s], pz[s], clamp_c)
+#define FOLD_VALUES(PRIM, OP) FOLD_UNIT_VALUES(PRIM, OP, 0)
+/* Hoisted, an add or subtract whose scales are 1 folds without their products (sdf_edit_value_unit). */
+#define FOLD_SCALED(PRIM, OP)                                                                              \
+    if (unit) {                                                                                            \
+        FOLD_UNIT_VALUES(PRIM, OP, 1);                                                                     \
+    } else {                                                                                               \
+        FOLD_UNIT_VALUES(PRIM, OP, 0);                                                                     \
+    }
 #define FOLD_PRIM(PRIM)                                                                                    \
     switch (op) {                                                                                          \
-        case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) FOLD_VALUES(PRIM, SDF_OP_ADD); break;                     \
-        case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) FOLD_VALUES(PRIM, SDF_OP_SUBTRACT); break;      \
+        case SDF_OP_ADD: if (HAS_OP(SDF_OP_ADD)) { FOLD_SCALED(PRIM, SDF_OP_ADD); } break;                 \
+        case SDF_OP_SUBTRACT: if (HAS_OP(SDF_OP_SUBTRACT)) { FOLD_SCALED(PRIM, SDF_OP_SUBTRACT); } break;  \
         default: if (HAS_OTHER_OP) FOLD_VALUES(PRIM, op); break;                                           \
     }
 /* A sphere or capsule (PRIM) edit of operation OP with one lane: the work-item's skip test first
@@ -166,15 +174,19 @@ inline void radial_kept_values(uint op, float blend, sdf_real* field, uint activ
  * over the chunk (radial_skips) and the whole fold follows. On an H200, drops' evaluation (no shared
  * aprons) took 5.15 ms with the per-value test alone and 3.70 with both (docs/performance.md). */
 #if SKIP_FAR && SDF_LANES == 1
-#define FOLD_RADIAL_VALUES(PRIM, OP)                                                                       \
+#define FOLD_RADIAL_VALUES(PRIM, OP, UNIT)                                                                 \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
-        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, field[s], px[s], py[s], pz[s], clamp_c, b.w)
+        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, UNIT, field[s], px[s], py[s], pz[s], clamp_c, b.w)
 #define FOLD_RADIAL_OP(PRIM, OP)                                                                           \
     {                                                                                                      \
         float4 a, b;                                                                                       \
         radial_values(e, PRIM, clamp_c, &a, &b);                                                           \
         if (!item_beyond(a, b, item, sdf_radial_bound(OP, item_extreme(OP, field, active), b.w))) {       \
-            FOLD_RADIAL_VALUES(PRIM, OP);                                                                  \
+            if (unit) {                                                                                    \
+                FOLD_RADIAL_VALUES(PRIM, OP, 1);                                                           \
+            } else {                                                                                       \
+                FOLD_RADIAL_VALUES(PRIM, OP, 0);                                                           \
+            }                                                                                              \
         } else {                                                                                           \
             radial_kept_values(OP, e->blend, field, active);                                               \
         }                                                                                                  \
@@ -192,6 +204,7 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
                         const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float4 item) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
 #if EVAL_HOIST
+    const int unit = sdf_unit_scale(e);
     switch (prim) {
         case SDF_PRIM_SPHERE: if (HAS_PRIM(SDF_PRIM_SPHERE)) FOLD_RADIAL(SDF_PRIM_SPHERE); break;
         case SDF_PRIM_BOX: if (HAS_PRIM(SDF_PRIM_BOX)) FOLD_PRIM(SDF_PRIM_BOX); break;

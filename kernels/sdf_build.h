@@ -17,11 +17,16 @@
 #include "sdf_edit.h"
 
 /* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h), for an edit of primitive prim
- * and operation op (constants fold the switches away: sdf_edit_value_of). */
+ * and operation op (constants fold the switches away: sdf_edit_value_unit, which also says what unit
+ * is). */
+inline sdf_real sdf_fold_unit(const SdfPrepared* e, uint prim, uint op, int unit, __global const float* meshes,
+                              sdf_real field, sdf_real x, sdf_real y, sdf_real z, float clamp_c) {
+    const sdf_real f = sdf_combine_of(e, op, field, sdf_edit_value_unit(e, prim, unit, meshes, x, y, z));
+    return fmin(fmax(f, -clamp_c), clamp_c);
+}
 inline sdf_real sdf_fold_of(const SdfPrepared* e, uint prim, uint op, __global const float* meshes, sdf_real field,
                             sdf_real x, sdf_real y, sdf_real z, float clamp_c) {
-    const sdf_real f = sdf_combine_of(e, op, field, sdf_edit_value_of(e, prim, meshes, x, y, z));
-    return fmin(fmax(f, -clamp_c), clamp_c);
+    return sdf_fold_unit(e, prim, op, 0, meshes, field, x, y, z, clamp_c);
 }
 
 #if SDF_LANES == 1
@@ -52,17 +57,18 @@ inline sdf_real sdf_radial_kept(float blend, uint op, sdf_real field) {
 
 #if SDF_LANES == 1
 /* sdf_fold_of for a sphere or capsule (prim) edit of operation add or subtract (op), skipping where
- * it cannot change the fold. */
-inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, float field, float x, float y, float z,
-                             float clamp_c, float offset) {
+ * it cannot change the fold. unit (a constant): the caller knows e's inv_scale and out_scale are 1,
+ * so their products, exact, are left out (same bits). */
+inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, int unit, float field, float x, float y,
+                             float z, float clamp_c, float offset) {
     float dx = x, dy = y, dz = z;
-    sdf_edit_frame(e, &dx, &dy, &dz); /* as sdf_edit_value_of */
+    sdf_edit_frame_of(e, !unit, &dx, &dy, &dz); /* as sdf_edit_value_of */
     if (prim == SDF_PRIM_CAPSULE) dy = dy - clamp(dy, -e->prm[0], e->prm[0]);
     const float d2 = dx * dx + dy * dy + dz * dz; /* sdf_norm3's sum */
     const float bound = sdf_radial_bound(op, field, offset);
-    if (d2 * e->out_scale * e->out_scale >= bound * bound) return sdf_radial_kept(e->blend, op, field);
-    const float v = (sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0])) * e->out_scale;
-    return fmin(fmax(sdf_combine_of(e, op, field, v), -clamp_c), clamp_c);
+    if ((unit ? d2 : d2 * e->out_scale * e->out_scale) >= bound * bound) return sdf_radial_kept(e->blend, op, field);
+    const float l = sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0]);
+    return fmin(fmax(sdf_combine_of(e, op, field, unit ? l : l * e->out_scale), -clamp_c), clamp_c);
 }
 #endif
 

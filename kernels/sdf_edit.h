@@ -282,39 +282,53 @@ inline SdfPrepared sdf_prepare(SdfEdit e) {
     return r;
 }
 
-/* Value of one prepared edit at (x, y, z) (geometry frame) whose primitive is prim (= e->kind & 0xff:
- * a caller that has branched on the primitive passes it as a constant, and the switch folds away);
- * meshes is the mesh pool (sdf_types.h). */
-/* (x, y, z) (geometry frame) in the frame of edit e, in place: translated, rotated, scaled. */
-inline void sdf_edit_frame(const SdfPrepared* e, sdf_real* x, sdf_real* y, sdf_real* z) {
+/* (x, y, z) (geometry frame) in the frame of edit e, in place: translated, rotated, and scaled
+ * unless scaled is 0 (from a caller that knows e's inv_scale is 1: the products are then exact and
+ * change no bit). */
+inline void sdf_edit_frame_of(const SdfPrepared* e, int scaled, sdf_real* x, sdf_real* y, sdf_real* z) {
     *x = *x - e->t[0];
     *y = *y - e->t[1];
     *z = *z - e->t[2];
     if (e->kind & SDF_KIND_ROTATED) sdf_rotate_inverse(e->q, x, y, z);
-    /* A product with 1 is exact: skipping it changes no bit. CPU lanes skip it (three vector products
-     * per edit); with one lane (GPUs) the test costs more than the products: drops' evaluate on an
-     * H200 took 8.32 ms with the test and 8.15 ms without. */
-#if SDF_LANES > 1
-    if (e->inv_scale != 1.0f)
-#endif
-    {
+    if (scaled) {
         *x = *x * e->inv_scale;
         *y = *y * e->inv_scale;
         *z = *z * e->inv_scale;
     }
 }
 
-inline sdf_real sdf_edit_value_of(const SdfPrepared* e, uint prim, __global const float* meshes, sdf_real x, sdf_real y,
-                                  sdf_real z) {
+/* Whether e's frame needs its products with inv_scale, where the caller does not know. CPU lanes test
+ * the scale (three vector products per edit); with one lane (GPUs) a test per point costs more than
+ * the products: drops' evaluate on an H200 took 8.32 ms with the test and 8.15 ms without. */
+#if SDF_LANES > 1
+#define SDF_SCALED(e) ((e)->inv_scale != 1.0f)
+#else
+#define SDF_SCALED(e) 1
+#endif
+
+/* Value of one prepared edit at (x, y, z) (geometry frame) whose primitive is prim (= e->kind & 0xff:
+ * a caller that has branched on the primitive passes it as a constant, and the switch folds away);
+ * meshes is the mesh pool (sdf_types.h). unit (a constant): the caller knows e's inv_scale and
+ * out_scale are 1, and their products, exact, are left out (same bits). */
+inline sdf_real sdf_edit_value_unit(const SdfPrepared* e, uint prim, int unit, __global const float* meshes, sdf_real x,
+                                    sdf_real y, sdf_real z) {
     sdf_real dx = x, dy = y, dz = z;
-    sdf_edit_frame(e, &dx, &dy, &dz);
+    sdf_edit_frame_of(e, !unit && SDF_SCALED(e), &dx, &dy, &dz);
     const sdf_real v = prim == SDF_PRIM_MESH ? sdf_mesh_lanes(meshes, (uint)e->prm[3], dx, dy, dz)
                                              : sdf_primitive(prim, e->prm, dx, dy, dz);
+    if (unit) return v;
 #if SDF_LANES > 1
     if (e->out_scale == 1.0f) return v;
 #endif
     return v * e->out_scale;
 }
+inline sdf_real sdf_edit_value_of(const SdfPrepared* e, uint prim, __global const float* meshes, sdf_real x, sdf_real y,
+                                  sdf_real z) {
+    return sdf_edit_value_unit(e, prim, 0, meshes, x, y, z);
+}
+
+/* Whether e's inv_scale and out_scale are both 1 (the unit argument above). */
+inline int sdf_unit_scale(const SdfPrepared* e) { return e->inv_scale == 1.0f && e->out_scale == 1.0f; }
 
 /* Value of one prepared edit at (x, y, z). */
 inline sdf_real sdf_edit_value(const SdfPrepared* e, __global const float* meshes, sdf_real x, sdf_real y, sdf_real z) {
