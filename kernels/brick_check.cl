@@ -241,7 +241,7 @@ __kernel void brick_thin(__global const SdfEdit* edits, __global const float* me
     }
 }
 
-__kernel void brick_check(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
+__kernel void brick_check(__global const SdfPrepared* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global const SdfBrick* bricks, __global const sample_t* pool, float origin_x,
                           float origin_y, float origin_z, float voxel, float clamp_c, float band, float dequant,
                           float tolerance, float window, __global float* errors, __global uint* passed,
@@ -348,7 +348,7 @@ __kernel void brick_check(__global const SdfEdit* edits, __global const float* m
         for (uint base = 0; base < b.edit_count; base += chunk_size) {
             const uint m = min(chunk_size, b.edit_count - base);
             barrier(CLK_LOCAL_MEM_FENCE);
-            for (uint j = lid; j < m; j += wg) chunk[j] = sdf_prepare(edits[list[base + j]]);
+            for (uint j = lid; j < m; j += wg) chunk[j] = edits[list[base + j]];
             barrier(CLK_LOCAL_MEM_FENCE);
             for (uint t = lid * SDF_LANES; t < listed; t += wg * SDF_LANES) {
                 const sdf_index entry = list_lanes(to_fold, t, listed);

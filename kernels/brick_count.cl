@@ -35,12 +35,13 @@ inline void fold_step(sdf_real* field, sdf_real* excess, float4 terms, float4 fo
     *field = fmin(fmax(sdf_fold_select(fold, *field, v), -saturation), saturation);
 }
 
-/* Stages edits base .. base + n - 1 of the parent's list with their excess terms and fold parameters. */
-inline void stage_edits(__global const SdfEdit* edits, __global const uint* list, uint n, uint lid, uint wg,
+/* Stages edits base .. base + n - 1 of the parent's list (prepared: edit_prepare.cl) with their excess
+ * terms and fold parameters. */
+inline void stage_edits(__global const SdfPrepared* edits, __global const uint* list, uint n, uint lid, uint wg,
                         __local SdfPrepared* chunk, __local float4* terms, __local float4* folds, float clamp_c,
                         float saturation, float threshold, float magnitude) {
     for (uint j = lid; j < n; j += wg) {
-        const SdfPrepared e = sdf_prepare(edits[list[j]]);
+        const SdfPrepared e = edits[list[j]];
         chunk[j] = e;
         terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
         folds[j] = sdf_fold_params(&e);
@@ -86,7 +87,7 @@ inline float3 child_centre(SdfBrick b, uint child, uint log2b, float3 origin, fl
  * the work-group has ceil(per / SDF_LANES) work-items and no parts (`values` is unused). Every lane
  * does the one-lane fold's operations in the same order: the same bits. With one child a work-item,
  * PoCL ran the fold at a sixth of the evaluation's rate per edit (docs/performance.md). */
-__kernel void brick_count(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
+__kernel void brick_count(__global const SdfPrepared* edits, __global const float* meshes, __global const uint* edit_indices,
                           __global SdfBrick* parents, uint log2b,
                           float origin_x, float origin_y, float origin_z, float child_cell,
                           float threshold, float clamp_c, float saturation, float reject_slack,

@@ -1,8 +1,8 @@
 /* brick_evaluate.cl: stage "evaluate". One work-group per leaf brick evaluates the brick's owned
  * samples (owned_regions[brick]: its interior and the apron regions no neighbour evaluates; see
  * sdf_apron.h; brick_apron.cl copies the rest). They are spread over the work-items (up to PER_ITEM
- * values of sdf_real each, SDF_LANES samples per value, held in private memory). The brick's edits
- * are staged through __local memory in chunks of chunk_size: load, barrier, every work-item folds the
+ * values of sdf_real each, SDF_LANES samples per value, held in private memory). The brick's edits,
+ * prepared once per build (edit_prepare.cl), are staged through __local memory in chunks of chunk_size: load, barrier, every work-item folds the
  * chunk into its samples, barrier, next chunk. With SKIP_RECORDS each staged edit has a skip record
  * beside it in `skips` (two float4: radial_record). Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
@@ -222,7 +222,7 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
 #endif
 }
 
-__kernel void brick_evaluate(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
+__kernel void brick_evaluate(__global const SdfPrepared* edits, __global const float* meshes, __global const uint* edit_indices,
                              __global const SdfBrick* bricks, __global const uint* owned_regions,
                              float origin_x, float origin_y, float origin_z, float finest_voxel,
                              __global const float* level_clamp, float finest_band, float finest_quant_scale,
@@ -266,7 +266,7 @@ __kernel void brick_evaluate(__global const SdfEdit* edits, __global const float
         const uint n = min(chunk_size, b.edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
         for (uint j = lid; j < n; j += wg) {
-            const SdfPrepared e = sdf_prepare(edits[edit_indices[b.edit_offset + base + j]]);
+            const SdfPrepared e = edits[edit_indices[b.edit_offset + base + j]];
             chunk[j] = e;
 #if SKIP_RECORDS
             radial_record(&e, clamp_c, skips + 2 * j);

@@ -248,22 +248,13 @@ inline float sdf_feature_size(SdfEdit e, __global const float* meshes) {
     return 2.0f * f * e.transform.scale;
 }
 
-/* An edit prepared for evaluation (kernel side only, 64 bytes like SdfEdit): the reciprocals that
- * evaluation multiplies by, computed once per edit instead of dividing at every point.
+/* An edit prepared for evaluation (SdfPrepared, sdf_types.h): the reciprocals that evaluation
+ * multiplies by, computed once per edit instead of dividing at every point.
  *   value(p) = primitive((R^-1 (p - t)) * (1/s)) * (s/L)         (R skipped when it is the identity)
  *   smooth term of a combine: w^2 * (0.25/k), w = max(k - |a - b|, 0)    (= h^2 k / 4, h = w / k)
- * Every kernel that reads the field evaluates through this, so all of them agree bit for bit. */
+ * Every kernel that reads the field evaluates through this, so all of them agree bit for bit; the
+ * construction stages that stage edit lists read them prepared once per build (edit_prepare.cl). */
 #define SDF_KIND_ROTATED 0x10000u
-typedef struct SdfPrepared {
-    float t[3];
-    float inv_scale;   /* 1 / s */
-    float q[4];        /* rotation (x, y, z, w) */
-    float prm[4];
-    float out_scale;   /* s / L */
-    float blend;       /* k; 0 = hard */
-    float blend_q;     /* 0.25 / k; 0 when hard */
-    uint kind;         /* primitive | op << 8 | SDF_KIND_ROTATED when the rotation is not the identity */
-} SdfPrepared;
 
 inline SdfPrepared sdf_prepare(SdfEdit e) {
     SdfPrepared r;

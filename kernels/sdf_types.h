@@ -78,6 +78,20 @@ typedef struct SdfEdit {
     sdf_u32 op;             /* SDF_OP_* */
 } SdfEdit;
 
+/* An edit in the form the folds read (sdf_edit.h: sdf_prepare writes it, kernel side): translation,
+ * 1 / scale, rotation, parameters, scale / L, blend k, 0.25 / k (0 when hard), and the primitive |
+ * op << 8 | a rotation flag. Same size as SdfEdit. */
+typedef struct SdfPrepared {
+    sdf_f32 t[3];
+    sdf_f32 inv_scale;
+    sdf_f32 q[4];
+    sdf_f32 prm[4];
+    sdf_f32 out_scale;
+    sdf_f32 blend;
+    sdf_f32 blend_q;
+    sdf_u32 kind;
+} SdfPrepared;
+
 /* The signed distance grid of a mesh edit. Every kernel that evaluates edits takes the mesh pool, one
  * float array: the headers of the scene's meshes first (SdfMeshGrid, 12 floats each, indexed by the
  * mesh index of SdfEdit.params[3]), then their values. Grid point (i, j, k) lies at

@@ -111,7 +111,7 @@ struct BuildSettings {
     // (two float4 each; kept with CPU lanes only) and 64 uints of bookkeeping. Validation and the tuner
     // count the records on every device: even chunk 256 fits a GPU's 48 KiB with them.
     static std::uint64_t evaluation_local_bytes(int chunk) {
-        return static_cast<std::uint64_t>(chunk) * (sizeof(SdfEdit) + 2 * sizeof(cl_float4)) + 64 * sizeof(cl_uint);
+        return static_cast<std::uint64_t>(chunk) * (sizeof(SdfPrepared) + 2 * sizeof(cl_float4)) + 64 * sizeof(cl_uint);
     }
     // Throws SettingError naming the setting ("chunk") for a value out of range.
     void validate(const ocl::DeviceInfo& device) const;

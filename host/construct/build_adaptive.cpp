@@ -37,7 +37,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     // The fold is in list order whatever the chunk: no bit depends on it.
     const std::size_t chunk = staged_chunk(
         static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
-        ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check") + group * sizeof(float), sizeof(SdfEdit));
+        ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check") + group * sizeof(float), sizeof(SdfPrepared));
     if (chunk == 0)
         throw SettingError("samples", fmt::format("the adaptive check of {}^3 samples needs more local memory than {} "
                                                   "has ({} bytes): use 8 samples or a uniform build",
@@ -105,11 +105,11 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * thin_group, thin_group);
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
     evaluate_samples(in_, masked, lists, n, nullptr, samples, measure::Stage::check, level);
-    ocl::set_args(kernel.get(), in_.edits, in_.meshes, fold_lists, fold_bricks, samples, in_.origin.x,
+    ocl::set_args(kernel.get(), in_.prepared_edits, in_.meshes, fold_lists, fold_bricks, samples, in_.origin.x,
                   in_.origin.y, in_.origin.z, voxel, fold_clamp, band, layout.dequantise_scale(band),
                   in_.plan.tolerance, window, out.errors, out.passed,
                   ocl::LocalMemory{group * sizeof(float)},
-                  ocl::LocalMemory{chunk * sizeof(SdfEdit)}, static_cast<cl_uint>(chunk));
+                  ocl::LocalMemory{chunk * sizeof(SdfPrepared)}, static_cast<cl_uint>(chunk));
     in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
     ocl::Buffer<cl_uint>& offsets = levels.offsets(n, "the leaf offsets");
     out.count = in_.scan.exclusive(out.passed, offsets, n, in_.scheduler, measure::Stage::check, level);

@@ -48,10 +48,10 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
     const std::size_t record_count = records ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1;  // float4 each
-    ocl::set_args(kernel.get(), in.edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
+    ocl::set_args(kernel.get(), in.prepared_edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
                   in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp, in.plan.band,
                   layout.quantise_scale(in.plan.band), static_cast<cl_uint>(in.plan.finest()), in.plan.log2b, pool,
-                  ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfEdit)},
+                  ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfPrepared)},
                   ocl::LocalMemory{record_count * sizeof(cl_float4)},
                   static_cast<cl_uint>(in.settings.chunk));
     in.scheduler.launch(stage, level, kernel.get(), count * group, group);

@@ -85,7 +85,7 @@ bool Levels::run() {
 // these changes a bit: the fold is in list order either way.
 Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_list) const {
     // A staged edit: its prepared form (no larger than SdfEdit), its excess terms and fold parameters.
-    constexpr std::size_t kStaged = sizeof(SdfEdit) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
+    constexpr std::size_t kStaged = sizeof(SdfPrepared) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
     const std::size_t limit = ocl::kernel_work_group_limit(in_.device, in_.programs.count_k.get(), "brick_count");
     const std::uint64_t resident = resident_items(limit);
     CountShape shape;
@@ -142,11 +142,11 @@ void Levels::count(int level, ocl::Buffer<SdfBrick>& parents, ocl::Buffer<cl_uin
     if (split_words_.size() < split_words) split_words_ = allocate<cl_uint>(in_.device, split_words, "the split counts");
     const auto& k = in_.programs;
     const ocl::Kernel& kernel = in_.programs.count_kernel(in_.device, shape.lanes);
-    ocl::set_args(kernel.get(), in_.edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
+    ocl::set_args(kernel.get(), in_.prepared_edits, in_.meshes, *parent_lists_, parents, lb, in_.origin.x, in_.origin.y,
                   in_.origin.z, cell(level), in_.plan.threshold(level), in_.plan.clamp_c, in_.plan.saturation(level),
                   in_.plan.reject_slack(), static_cast<float>(in_.plan.magnitude),
                   static_cast<cl_uint>(untested_from(level)), counts,
-                  static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfEdit)},
+                  static_cast<cl_uint>(shape.splits), split_words_, ocl::LocalMemory{shape.chunk * sizeof(SdfPrepared)},
                   ocl::LocalMemory{shape.chunk * sizeof(cl_float4)}, ocl::LocalMemory{shape.chunk * sizeof(cl_float4)},
                   static_cast<cl_uint>(shape.chunk), ocl::LocalMemory{values * sizeof(float)},
                   ocl::LocalMemory{per * sizeof(cl_uint)});
@@ -345,7 +345,7 @@ void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64
         return;
     }
     const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
-    ocl::set_args(k.mark_k.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, static_cast<cl_uint>(n),
+    ocl::set_args(k.mark_k.get(), in_.edits, in_.prepared_edits, in_.meshes, *parent_lists_, *parents_, static_cast<cl_uint>(n),
                   static_cast<cl_uint>(total_words), static_cast<cl_uint>(span), in_.origin.x, in_.origin.y, in_.origin.z,
                   cell(level), radius, saturation, static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                   ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
@@ -370,11 +370,11 @@ void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::ui
         std::clamp<std::uint64_t>(std::min(group * lanes * parent_count_ / n, mean_words), 1, kMaxChunkWords);
     const std::uint64_t fill = (resident_items(siblings_limit()) + groups - 1) / groups;
     const std::uint64_t splits = std::clamp<std::uint64_t>(std::min(fill, mean_words / chunk_words), 1, kMaxSplits);
-    ocl::set_args(kernel.get(), in_.edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
+    ocl::set_args(kernel.get(), in_.edits, in_.prepared_edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
                   in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
                   in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
                   static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
-                  ocl::LocalMemory{chunk_words * 32 * sizeof(SdfEdit)},
+                  ocl::LocalMemory{chunk_words * 32 * sizeof(SdfPrepared)},
                   ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words),
                   static_cast<cl_uint>(splits));
     in_.scheduler.launch(measure::Stage::cull, level, kernel.get(), parent_count_ * splits * group, group);

@@ -104,8 +104,8 @@ inline float float_down(double x) {
 
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
-    ocl::Program count, subdivide, cull, aabb, order;
-    ocl::Kernel count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k, cull_count_k,
+    ocl::Program prepare, count, subdivide, cull, aabb, order;
+    ocl::Kernel prepare_k, count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k, cull_count_k,
         write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
@@ -151,10 +151,12 @@ struct BuildPrograms {
     }
 
     explicit BuildPrograms(ocl::Device& d)
-        : count(ocl::build_program(d, "brick_count.cl")), subdivide(ocl::build_program(d, "brick_subdivide.cl")),
+        : prepare(ocl::build_program(d, "edit_prepare.cl")), count(ocl::build_program(d, "brick_count.cl")),
+          subdivide(ocl::build_program(d, "brick_subdivide.cl")),
           cull(ocl::build_program(d, "brick_cull.cl")), aabb(ocl::build_program(d, "brick_aabb.cl")),
           order(ocl::build_program(d, "brick_order.cl")),
-          count_k(ocl::make_kernel(count, "brick_count")), count_merge_k(ocl::make_kernel(count, "brick_count_merge")),
+          prepare_k(ocl::make_kernel(prepare, "edit_prepare")), count_k(ocl::make_kernel(count, "brick_count")),
+          count_merge_k(ocl::make_kernel(count, "brick_count_merge")),
           mask_counts_k(ocl::make_kernel(count, "brick_mask_counts")),
           subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
@@ -240,6 +242,7 @@ struct BuildInputs {
     std::vector<SdfEdit> converted;       // g's edits in device form, unless prepared
     std::span<const SdfEdit> edits_host;  // prepared or converted
     ocl::Buffer<SdfEdit> edits;
+    ocl::Buffer<SdfPrepared> prepared_edits;  // edits as the folds read them (edit_prepare.cl), for the stages that stage lists
     ocl::Buffer<float> meshes;  // the mesh pool (construct/mesh_pool.h)
     glm::vec3 origin;
     ocl::Buffer<cl_uint> empty_uints;

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <span>
 
+#include "cl/launch.h"
 #include "construct/mesh_pool.h"
 #include "scene/to_device.h"
 
@@ -83,6 +84,21 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     return p;
 }
 
+namespace {
+
+// The edits as the folds read them, prepared once for the build (edit_prepare.cl).
+ocl::Buffer<SdfPrepared> prepare_edits(ocl::Device& d, BuildPrograms& programs, measure::Scheduler& scheduler,
+                                       const ocl::Buffer<SdfEdit>& edits) {
+    ocl::Buffer<SdfPrepared> prepared(ocl::pooled, d, edits.size());
+    if (edits.size() == 0) return prepared;
+    ocl::set_args(programs.prepare_k.get(), edits, static_cast<cl_uint>(edits.size()), prepared);
+    scheduler.launch(measure::Stage::evaluate, -1, programs.prepare_k.get(), round_up(edits.size(), kGroup1d),
+                     kGroup1d);
+    return prepared;
+}
+
+}  // namespace
+
 BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
                          const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out,
                          const std::vector<SdfEdit>* prepared)
@@ -97,6 +113,7 @@ BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, co
       converted(prepared ? std::vector<SdfEdit>{} : to_device(g)),
       edits_host(prepared ? *prepared : converted),
       edits(ocl::pooled, d, edits_host),
+      prepared_edits(prepare_edits(d, programs, scheduler, edits)),
       meshes(ocl::pooled, d, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d, scheduler))),
       origin(plan.domain.origin),
       empty_uints(ocl::pooled, d, 0) {}

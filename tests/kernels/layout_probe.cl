@@ -10,7 +10,8 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
                            __global const SdfBvhNode* node, __global const SdfBvhWideNode* wide,
                            __global const SdfInstance* instance,
                            __global const SdfBrickGeometry* geometry, __global const SdfShading* shading,
-                           __global const SdfMeshGrid* mesh, __global uint* out) {
+                           __global const SdfMeshGrid* mesh,
+                           __global const SdfPrepared* prepared, __global uint* out) {
     if (get_global_id(0) != 0) return;
     uint n = 0;
     out[n++] = (uint)sizeof(SdfTransform);
@@ -71,5 +72,13 @@ __kernel void layout_probe(__global const SdfEdit* edit, __global const SdfBound
     out[n++] = SDF_OFF(mesh, tiles);
     out[n++] = SDF_OFF(mesh, coarse);
     out[n++] = SDF_OFF(mesh, centres);
+    out[n++] = (uint)sizeof(SdfPrepared);
+    out[n++] = SDF_OFF(prepared, inv_scale);
+    out[n++] = SDF_OFF(prepared, q);
+    out[n++] = SDF_OFF(prepared, prm);
+    out[n++] = SDF_OFF(prepared, out_scale);
+    out[n++] = SDF_OFF(prepared, blend);
+    out[n++] = SDF_OFF(prepared, blend_q);
+    out[n++] = SDF_OFF(prepared, kind);
     out[n++] = 0xC0FFEEu; /* end marker: the host checks it to know the list was not cut short */
 }

@@ -74,6 +74,14 @@ std::vector<cl_uint> host_layout() {
             offsetof(SdfMeshGrid, tiles),
             offsetof(SdfMeshGrid, coarse),
             offsetof(SdfMeshGrid, centres),
+            sizeof(SdfPrepared),
+            offsetof(SdfPrepared, inv_scale),
+            offsetof(SdfPrepared, q),
+            offsetof(SdfPrepared, prm),
+            offsetof(SdfPrepared, out_scale),
+            offsetof(SdfPrepared, blend),
+            offsetof(SdfPrepared, blend_q),
+            offsetof(SdfPrepared, kind),
             0xC0FFEEu};
 }
 
@@ -91,6 +99,7 @@ TEST(KernelsLayout, HostSizesHaveNoPadding) {
     static_assert(sizeof(SdfBrickGeometry) == 8 * 4);
     static_assert(sizeof(SdfShading) == 12 * 4);
     static_assert(sizeof(SdfMeshGrid) == 12 * 4);  // the mesh pool holds headers as 12 floats each
+    static_assert(sizeof(SdfPrepared) == sizeof(SdfEdit));  // staged in the same local memory
     static_assert(alignof(SdfEdit) == 4 && alignof(SdfBrick) == 4);
 }
 
@@ -109,8 +118,9 @@ TEST(KernelsLayout, DeviceMatchesHost) {
     ocl::Buffer<SdfBrickGeometry> geometry(device, 1);
     ocl::Buffer<SdfShading> shading(device, 1);
     ocl::Buffer<SdfMeshGrid> mesh(device, 1);
+    ocl::Buffer<SdfPrepared> prepared(device, 1);
     ocl::Buffer<cl_uint> out(device, std::vector<cl_uint>(expected.size() + 4, 0u));
-    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, wide, instance, geometry, shading, mesh, out);
+    ocl::set_args(kernel.get(), edit, bounds, brick, camera, node, wide, instance, geometry, shading, mesh, prepared, out);
     ocl::enqueue(device, kernel.get(), "layout_probe", 1);
     const std::vector<cl_uint> got = out.read();
     const char* names[] = {"sizeof SdfTransform", "sizeof SdfEdit", "sizeof SdfBounds", "sizeof SdfBrick",
@@ -129,6 +139,8 @@ TEST(KernelsLayout, DeviceMatchesHost) {
                            "SdfShading.ray_offset", "SdfShading.shadow_rays", "SdfShading.ao_rays", "sizeof SdfMeshGrid",
                            "SdfMeshGrid.cell", "SdfMeshGrid.inv_cell", "SdfMeshGrid.dims", "SdfMeshGrid.offset",
                            "SdfMeshGrid.tiles", "SdfMeshGrid.coarse", "SdfMeshGrid.centres",
+                           "sizeof SdfPrepared", "SdfPrepared.inv_scale", "SdfPrepared.q", "SdfPrepared.prm",
+                           "SdfPrepared.out_scale", "SdfPrepared.blend", "SdfPrepared.blend_q", "SdfPrepared.kind",
                            "end marker"};
     ASSERT_EQ(std::size(names), expected.size());
     for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(got[i], expected[i]) << names[i];
