@@ -50,15 +50,15 @@ inline void sibling_share(uint n, uint split, uint splits, uint* from, uint* to)
 }
 
 /* cull_mark_siblings: stages the m entries of the list from word w0 on, each edit prepared (as
- * edit_prepare.cl left it), with its reach limit (sdf_reach_limit). */
-inline void stage_words(__global const SdfEdit* edits, __global const SdfPrepared* prepared, __global const uint* list, uint w0, uint m, uint lid, uint wg,
+ * edit_prepare.cl left it, with its reach), with its reach limit (sdf_reach_limit). */
+inline void stage_words(__global const SdfPrepared* prepared, __global const float* reaches, __global const uint* list, uint w0, uint m, uint lid, uint wg,
                         __local SdfPrepared* staged, __local float* limits, float clamp_c, float radius,
                         float magnitude) {
     for (uint j = lid; j < m; j += wg) {
         const uint k = list[(w0 << 5) + j];
-        const SdfEdit e = edits[k];
-        staged[j] = prepared[k];
-        limits[j] = sdf_reach_limit(&e, clamp_c, radius, magnitude);
+        const SdfPrepared e = prepared[k];
+        staged[j] = e;
+        limits[j] = sdf_reach_limit(e.blend, reaches[k], clamp_c, radius, magnitude);
     }
 }
 
@@ -66,7 +66,7 @@ inline void stage_words(__global const SdfEdit* edits, __global const SdfPrepare
 /* span bits per work-item (32 / span work-items per word, side by side in one work-group of
  * get_local_size(0), a multiple of 32 / span): each sets the bits of the entries it keeps in its
  * word through a __local word (OR: the order does not matter), whose first work-item writes it. */
-__kernel void cull_mark(__global const SdfEdit* edits, __global const SdfPrepared* prepared, __global const float* meshes, __global const uint* parent_indices,
+__kernel void cull_mark(__global const SdfPrepared* prepared, __global const float* reaches, __global const float* meshes, __global const uint* parent_indices,
                         __global const SdfBrick* bricks, uint count, uint total_words, uint span,
                         float origin_x, float origin_y, float origin_z, float cell,
                         float radius, float clamp_c, float magnitude,
@@ -86,9 +86,10 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const SdfPrepare
         const uint end = min(b.edit_count, first + span);
         uint word = 0;
         for (uint j = first; j < end; ++j) {
-            const SdfEdit e = edits[list[j]];
-            const SdfPrepared pe = prepared[list[j]];
-            if (sdf_edit_reaches(&e, sdf_prepared_value(&pe, meshes, c), clamp_c, radius, magnitude)) word |= 1u << (j & 31u);
+            const uint k = list[j];
+            const SdfPrepared e = prepared[k];
+            const float limit = sdf_reach_limit(e.blend, reaches[k], clamp_c, radius, magnitude);
+            if (sdf_within_reach((e.kind >> 8) & 0xffu, sdf_prepared_value(&e, meshes, c), limit)) word |= 1u << (j & 31u);
         }
         if (word != 0u) atomic_or(&words[slot], word);
         if (part == 0u) sources[w] = b.edit_offset + word_first;
@@ -109,7 +110,7 @@ __kernel void cull_mark(__global const SdfEdit* edits, __global const SdfPrepare
  * lid % groups, groups = ceil(children / SDF_LANES); lanes past the last child repeat it and are not
  * written) and tests the 32 edits at all their centres at once, the one-lane operations in every
  * lane. */
-__kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const SdfPrepared* prepared,
+__kernel void cull_mark_siblings(__global const SdfPrepared* prepared, __global const float* reaches,
                                  __global const float* meshes,
                                  __global const uint* parent_indices, __global const SdfBrick* bricks,
                                  __global const uint* child_offsets, __global const uint* child_counts,
@@ -152,7 +153,7 @@ __kernel void cull_mark_siblings(__global const SdfEdit* edits, __global const S
     for (uint w0 = from; w0 < to; w0 += per_chunk) {
         const uint m = min(min(per_chunk, to - w0) << 5, n - (w0 << 5));
         barrier(CLK_LOCAL_MEM_FENCE);
-        stage_words(edits, prepared, list, w0, m, lid, wg, staged, limits, clamp_c, radius, magnitude);
+        stage_words(prepared, reaches, list, w0, m, lid, wg, staged, limits, clamp_c, radius, magnitude);
         barrier(CLK_LOCAL_MEM_FENCE);
         if (slot < per_chunk && w0 + slot < to) {
             const uint lo = slot << 5, hi = min(lo + 32u, m);

@@ -3,9 +3,14 @@
  * an edit takes two correctly rounded divisions, and they did it once per brick and staged chunk
  * while the work-group waited at the barrier (an H100: drops' evaluation at 0.0625 about 2.9 ms
  * with them against about 2.4 without; docs/performance.md). Same values, so the same bits. */
-#include "sdf_edit.h"
+#include "sdf_build.h"
 
-__kernel void edit_prepare(__global const SdfEdit* edits, uint count, __global SdfPrepared* prepared) {
+/* reaches: each edit's sdf_edit_reach, so that the cull stages need the prepared edit alone. */
+__kernel void edit_prepare(__global const SdfEdit* edits, uint count, __global SdfPrepared* prepared,
+                           __global float* reaches) {
     const uint i = get_global_id(0);
-    if (i < count) prepared[i] = sdf_prepare(edits[i]);
+    if (i >= count) return;
+    const SdfEdit e = edits[i];
+    prepared[i] = sdf_prepare(e);
+    reaches[i] = sdf_edit_reach(&e);
 }

@@ -81,7 +81,7 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, int unit,
  * excess that do not depend on v; sdf_saturation_excess adds them up for one v. */
 inline float4 sdf_excess_terms(const SdfPrepared* e, float clamp_c, float saturation, float radius, float magnitude) {
     if (!(e->blend > 0.0f)) return (float4)(0.0f, -INFINITY, 0.0f, 0.0f);
-    /* The rounding of v, as in sdf_edit_reaches: relative to the coordinates and the edit's size. */
+    /* The rounding of v, as in sdf_reach_limit: relative to the coordinates and the edit's size. */
     const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
                         fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
                             e->inv_scale;
@@ -141,27 +141,26 @@ inline int3 sdf_morton_child(uint i, uint log2b) {
     return c;
 }
 
-/* Whether edit e may change F_C anywhere within distance radius of point c, where v is its value at
- * c (1-Lipschitz: the value anywhere in that ball is within radius of v). margin covers the rounding
- * of v here and at the other points (relative to the coordinates' magnitude). NaN keeps the edit. */
-inline float sdf_reach_limit(const SdfEdit* e, float clamp_c, float radius, float magnitude) {
+/* Whether an edit may change F_C anywhere within distance radius of point c, where v is its value at
+ * c (1-Lipschitz: the value anywhere in that ball is within radius of v): sdf_within_reach(op, v,
+ * limit) with the limit below. margin covers the rounding of v here and at the other points, relative
+ * to the coordinates' magnitude and the edit's size (its reach: sdf_edit_reach, which edit_prepare.cl
+ * keeps per edit). NaN keeps the edit. */
+inline float sdf_edit_reach(const SdfEdit* e) {
     const float t = e->transform.translation[0], u = e->transform.translation[1], w = e->transform.translation[2];
-    const float reach = fmax(fmax(fabs(t), fabs(u)), fabs(w)) +
-                        e->transform.scale * fmax(fmax(fabs(e->params[0]), fabs(e->params[1])),
-                                                  fmax(fabs(e->params[2]), fabs(e->params[3])));
-    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
-    return clamp_c + e->blend + radius + margin;
+    return fmax(fmax(fabs(t), fabs(u)), fabs(w)) +
+           e->transform.scale * fmax(fmax(fabs(e->params[0]), fabs(e->params[1])),
+                                     fmax(fabs(e->params[2]), fabs(e->params[3])));
 }
 
-/* The test of sdf_edit_reaches for an edit of operation op whose limit is sdf_reach_limit (per lane). */
+inline float sdf_reach_limit(float blend, float reach, float clamp_c, float radius, float magnitude) {
+    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+    return clamp_c + blend + radius + margin;
+}
+
+/* The test for an edit of operation op whose limit is sdf_reach_limit (per lane). */
 inline sdf_index sdf_within_reach(uint op, sdf_real v, float limit) {
     return op == SDF_OP_INTERSECT ? !(v <= -limit) : !(v >= limit);
 }
-
-#if SDF_LANES == 1
-inline int sdf_edit_reaches(const SdfEdit* e, float v, float clamp_c, float radius, float magnitude) {
-    return sdf_within_reach(e->op, v, sdf_reach_limit(e, clamp_c, radius, magnitude));
-}
-#endif
 
 #endif /* SDFBRICK_SDF_BUILD_H */

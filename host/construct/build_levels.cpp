@@ -345,7 +345,7 @@ void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64
         return;
     }
     const std::uint64_t span = bits_per_item(total_words, k.mark_k.get(), "cull_mark");
-    ocl::set_args(k.mark_k.get(), in_.edits, in_.prepared_edits, in_.meshes, *parent_lists_, *parents_, static_cast<cl_uint>(n),
+    ocl::set_args(k.mark_k.get(), in_.prepared_edits, in_.edit_reaches, in_.meshes, *parent_lists_, *parents_, static_cast<cl_uint>(n),
                   static_cast<cl_uint>(total_words), static_cast<cl_uint>(span), in_.origin.x, in_.origin.y, in_.origin.z,
                   cell(level), radius, saturation, static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                   ocl::LocalMemory{kGroup1d * sizeof(cl_uint)});
@@ -370,7 +370,7 @@ void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::ui
         std::clamp<std::uint64_t>(std::min(group * lanes * parent_count_ / n, mean_words), 1, kMaxChunkWords);
     const std::uint64_t fill = (resident_items(siblings_limit()) + groups - 1) / groups;
     const std::uint64_t splits = std::clamp<std::uint64_t>(std::min(fill, mean_words / chunk_words), 1, kMaxSplits);
-    ocl::set_args(kernel.get(), in_.edits, in_.prepared_edits, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
+    ocl::set_args(kernel.get(), in_.prepared_edits, in_.edit_reaches, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
                   in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
                   in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
                   static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,

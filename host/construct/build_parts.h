@@ -243,6 +243,7 @@ struct BuildInputs {
     std::span<const SdfEdit> edits_host;  // prepared or converted
     ocl::Buffer<SdfEdit> edits;
     ocl::Buffer<SdfPrepared> prepared_edits;  // edits as the folds read them (edit_prepare.cl), for the stages that stage lists
+    ocl::Buffer<float> edit_reaches;          // their sizes for the cull's limits (sdf_edit_reach)
     ocl::Buffer<float> meshes;  // the mesh pool (construct/mesh_pool.h)
     glm::vec3 origin;
     ocl::Buffer<cl_uint> empty_uints;

@@ -84,21 +84,6 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     return p;
 }
 
-namespace {
-
-// The edits as the folds read them, prepared once for the build (edit_prepare.cl).
-ocl::Buffer<SdfPrepared> prepare_edits(ocl::Device& d, BuildPrograms& programs, measure::Scheduler& scheduler,
-                                       const ocl::Buffer<SdfEdit>& edits) {
-    ocl::Buffer<SdfPrepared> prepared(ocl::pooled, d, edits.size());
-    if (edits.size() == 0) return prepared;
-    ocl::set_args(programs.prepare_k.get(), edits, static_cast<cl_uint>(edits.size()), prepared);
-    scheduler.launch(measure::Stage::evaluate, -1, programs.prepare_k.get(), round_up(edits.size(), kGroup1d),
-                     kGroup1d);
-    return prepared;
-}
-
-}  // namespace
-
 BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
                          const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out,
                          const std::vector<SdfEdit>* prepared)
@@ -113,9 +98,16 @@ BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, co
       converted(prepared ? std::vector<SdfEdit>{} : to_device(g)),
       edits_host(prepared ? *prepared : converted),
       edits(ocl::pooled, d, edits_host),
-      prepared_edits(prepare_edits(d, programs, scheduler, edits)),
+      prepared_edits(ocl::pooled, d, edits.size()),
+      edit_reaches(ocl::pooled, d, edits.size()),
       meshes(ocl::pooled, d, std::span<const float>(mesh_pool(std::span<const Geometry>(&g, 1), d, scheduler))),
       origin(plan.domain.origin),
-      empty_uints(ocl::pooled, d, 0) {}
+      empty_uints(ocl::pooled, d, 0) {
+    // The edits as the folds read them, with their reaches, once for the build (edit_prepare.cl).
+    if (edits.size() == 0) return;
+    ocl::set_args(programs.prepare_k.get(), edits, static_cast<cl_uint>(edits.size()), prepared_edits, edit_reaches);
+    scheduler.launch(measure::Stage::evaluate, -1, programs.prepare_k.get(), round_up(edits.size(), kGroup1d),
+                     kGroup1d);
+}
 
 }  // namespace sdfbrick::construct::detail

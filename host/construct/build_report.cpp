@@ -123,7 +123,7 @@ void BuildReport::fill(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl
     in_.out.memory["aabbs"] = in_.out.aabbs->bytes();
     in_.out.memory["edit lists"] = levels_.bytes.lists;
     in_.out.memory["edits"] = in_.edits.bytes();
-    in_.out.memory["prepared edits"] = in_.prepared_edits.bytes();
+    in_.out.memory["prepared edits"] = in_.prepared_edits.bytes() + in_.edit_reaches.bytes();
     if (in_.meshes.size() > 1) in_.out.memory["mesh grids"] = in_.meshes.bytes();  // one float: no mesh
     in_.out.memory["scratch"] = levels_.bytes.scratch;
 }

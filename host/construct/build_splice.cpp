@@ -2,7 +2,7 @@
 //
 // A brick's subtree (which of its descendants are kept, their edit lists, their samples) depends only
 // on the brick's own edit list, and an edit enters a list only where it can change the band-limited
-// field (sdf_edit_reaches), so a changed edit leaves alone every subtree it cannot reach. The levels
+// field (sdf_within_reach), so a changed edit leaves alone every subtree it cannot reach. The levels
 // run as in a build, but after each level's cull only the bricks a changed edit (as it was, or as it
 // is) may reach go on; a brick out of reach is frozen: its subtree is the earlier build's leaves under
 // it, a contiguous run of the Morton-ordered leaves, whose lists only have their edit indices moved

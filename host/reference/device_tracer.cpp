@@ -51,7 +51,7 @@ float round_up_float(double v) {
     return f;
 }
 
-// The edit's rough size, as sdf_edit_reaches (sdf_build.h) measures it: how large the numbers in
+// The edit's rough size, as sdf_edit_reach (sdf_build.h) measures it: how large the numbers in
 // its evaluation get, beside the point's coordinates.
 double reach(const Edit& e) {
     const double p = std::max({std::abs(e.params[0]), std::abs(e.params[1]), std::abs(e.params[2]), std::abs(e.params[3])});
