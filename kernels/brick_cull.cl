@@ -51,9 +51,9 @@ inline void sibling_share(uint n, uint split, uint splits, uint* from, uint* to)
 
 /* cull_mark_siblings: stages the m entries of the list from word w0 on, each edit prepared (as
  * edit_prepare.cl left it, with its reach), with its reach limit (sdf_reach_limit). */
-inline void stage_words(__global const SdfPrepared* prepared, __global const float* reaches, __global const uint* list, uint w0, uint m, uint lid, uint wg,
-                        __local SdfPrepared* staged, __local float* limits, float clamp_c, float radius,
-                        float magnitude) {
+inline void stage_words(__global const SdfPrepared* prepared, __global const float* reaches, __global const uint* list,
+                        uint w0, uint m, uint lid, uint wg, __local SdfPrepared* staged, __local float* limits,
+                        float clamp_c, float radius, float magnitude) {
     for (uint j = lid; j < m; j += wg) {
         const uint k = list[(w0 << 5) + j];
         const SdfPrepared e = prepared[k];
@@ -66,8 +66,8 @@ inline void stage_words(__global const SdfPrepared* prepared, __global const flo
 /* span bits per work-item (32 / span work-items per word, side by side in one work-group of
  * get_local_size(0), a multiple of 32 / span): each sets the bits of the entries it keeps in its
  * word through a __local word (OR: the order does not matter), whose first work-item writes it. */
-__kernel void cull_mark(__global const SdfPrepared* prepared, __global const float* reaches, __global const float* meshes, __global const uint* parent_indices,
-                        __global const SdfBrick* bricks, uint count, uint total_words, uint span,
+__kernel void cull_mark(__global const SdfPrepared* prepared, __global const float* reaches, __global const float* meshes,
+                        __global const uint* parent_indices, __global const SdfBrick* bricks, uint count, uint total_words, uint span,
                         float origin_x, float origin_y, float origin_z, float cell,
                         float radius, float clamp_c, float magnitude,
                         __global const uint* word_offsets, __global uint* bits, __global uint* sources,

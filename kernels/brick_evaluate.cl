@@ -2,8 +2,8 @@
  * samples (owned_regions[brick]: its interior and the apron regions no neighbour evaluates; see
  * sdf_apron.h; brick_apron.cl copies the rest). They are spread over the work-items (up to PER_ITEM
  * values of sdf_real each, SDF_LANES samples per value, held in private memory). The brick's edits,
- * prepared once per build (edit_prepare.cl), are staged through __local memory in chunks of chunk_size: load, barrier, every work-item folds the
- * chunk into its samples, barrier, next chunk. With SKIP_RECORDS each staged edit has a skip record
+ * prepared once per build (edit_prepare.cl), are staged through __local memory in chunks of
+ * chunk_size: load, barrier, every work-item folds the chunk into its samples, barrier, next chunk. With SKIP_RECORDS each staged edit has a skip record
  * beside it in `skips` (two float4: radial_record). Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
