@@ -84,7 +84,7 @@ bool Levels::run() {
 // (fewer barriers) as local memory allows (a larger chunk than lists need costs occupancy). None of
 // these changes a bit: the fold is in list order either way.
 Levels::CountShape Levels::count_shape(std::size_t children, std::uint64_t mean_list) const {
-    // A staged edit: its prepared form (no larger than SdfEdit), its excess terms and fold parameters.
+    // A staged edit: its prepared form, its excess terms and fold parameters.
     constexpr std::size_t kStaged = sizeof(SdfPrepared) + 2 * sizeof(cl_float4), kMinChunk = 16, kMaxParts = 16;
     const std::size_t limit = ocl::kernel_work_group_limit(in_.device, in_.programs.count_k.get(), "brick_count");
     const std::uint64_t resident = resident_items(limit);
