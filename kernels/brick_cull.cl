@@ -23,13 +23,13 @@ inline uint find_sorted(__global const uint* list, uint n, uint value) {
     return lo < n && list[lo] == value ? lo : n;
 }
 
-/* The brick owning global word w: the last brick whose first word is <= w (bricks with no words own
- * an empty range and are skipped). */
-inline uint owner_of_word(__global const uint* word_offsets, uint count, uint w) {
+/* The entry of an exclusive scan that owns position w: the last whose offset is <= w (entries with
+ * empty ranges are skipped). */
+inline uint owner_of(__global const uint* offsets, uint count, uint w) {
     uint lo = 0, hi = count;
     while (hi - lo > 1u) {
         const uint mid = lo + ((hi - lo) >> 1);
-        if (word_offsets[mid] <= w) lo = mid; else hi = mid;
+        if (offsets[mid] <= w) lo = mid; else hi = mid;
     }
     return lo;
 }
@@ -41,12 +41,16 @@ __kernel void cull_words(__global const SdfBrick* bricks, uint count, __global u
     if (i < count) words[i] = (bricks[i].edit_count + 31u) >> 5;
 }
 
-/* cull_mark_siblings: the words [*from, *to) of a parent's list of n entries that work-group `split`
- * of `splits` takes (an equal share each). */
-inline void sibling_share(uint n, uint split, uint splits, uint* from, uint* to) {
-    const uint words = (n + 31u) >> 5, share = (words + splits - 1u) / splits;
-    *from = min(words, split * share);
-    *to = min(words, *from + share);
+/* cull_mark_siblings: per parent, its work-groups (each takes share_words of its list's words; none
+ * where it kept no children). groups has parent_count entries; their exclusive scan numbers the
+ * work-groups, so that a parent's share of them follows its list's length. */
+__kernel void sibling_groups(__global const SdfBrick* bricks, __global const uint* child_offsets,
+                             __global const uint* child_counts, uint parent_count, uint share_words,
+                             __global uint* groups) {
+    const uint p = get_global_id(0);
+    if (p >= parent_count) return;
+    const uint words = child_counts[p] == 0u ? 0u : (bricks[child_offsets[p]].edit_count + 31u) >> 5;
+    groups[p] = (words + share_words - 1u) / share_words;
 }
 
 /* cull_mark_siblings: stages the m entries of the list from word w0 on, each edit prepared (as
@@ -77,7 +81,7 @@ __kernel void cull_mark(__global const SdfPrepared* prepared, __global const flo
     if (part == 0u) words[slot] = 0u;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (w < total_words) {
-        const uint i = owner_of_word(word_offsets, count, w);
+        const uint i = owner_of(word_offsets, count, w);
         const SdfBrick b = bricks[i];
         const float3 c = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), cell,
                                          (int3)(b.coord[0], b.coord[1], b.coord[2]));
@@ -101,8 +105,8 @@ __kernel void cull_mark(__global const SdfPrepared* prepared, __global const flo
 #endif
 
 /* The bits of cull_mark, for new children (brick_subdivide: a parent's kept children lie together at
- * child_offsets[parent], child_counts[parent] of them, and share its list): `splits` work-groups per
- * parent (group = parent * splits + split), each taking an equal share of the list's words. The
+ * child_offsets[parent], child_counts[parent] of them, and share its list): sibling_groups' work-groups
+ * per parent (group_first: their exclusive scan), each taking share_words of the list's words. The
  * share is staged through __local memory in chunks of whole words, each edit read and prepared
  * once for all the children; a work-item takes one child and one word of a chunk (children fastest,
  * so the work-items of a word read the same staged edits) and tests its 32 edits. With SDF_LANES >
@@ -117,17 +121,17 @@ __kernel void cull_mark_siblings(__global const SdfPrepared* prepared, __global 
                                  float origin_x, float origin_y, float origin_z, float cell,
                                  float radius, float clamp_c, float magnitude,
                                  __global const uint* word_offsets, __global uint* bits, __global uint* sources,
-                                 __local SdfPrepared* staged, __local float* limits, uint chunk_words, uint splits) {
-    const uint parent = get_group_id(0) / splits, split = get_group_id(0) % splits;
+                                 __local SdfPrepared* staged, __local float* limits, uint chunk_words,
+                                 __global const uint* group_first, uint parent_count, uint share_words) {
+    const uint parent = owner_of(group_first, parent_count, get_group_id(0));
+    const uint split = get_group_id(0) - group_first[parent];
     const uint lid = get_local_id(0), wg = get_local_size(0);
-    const uint kids = child_counts[parent];
-    if (kids == 0u) return; /* the whole work-group */
+    const uint kids = child_counts[parent]; /* at least 1: a parent without children has no work-group */
     const uint first = child_offsets[parent];
     const SdfBrick b0 = bricks[first];
     __global const uint* list = parent_indices + b0.edit_offset;
     const uint n = b0.edit_count;
-    uint from, to;
-    sibling_share(n, split, splits, &from, &to);
+    const uint from = split * share_words, to = min((n + 31u) >> 5, from + share_words);
     const float3 origin = (float3)(origin_x, origin_y, origin_z);
 #if SDF_LANES == 1
     const uint per_chunk = clamp(wg / kids, 1u, chunk_words); /* words a chunk */

@@ -25,7 +25,8 @@ Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adapti
       bits_(ocl::pooled, in.device, 0),
       sources_(ocl::pooled, in.device, 0),
       kept_words_(ocl::pooled, in.device, 0),
-      split_words_(ocl::pooled, in.device, 0) {}
+      split_words_(ocl::pooled, in.device, 0),
+      sibling_groups_(ocl::pooled, in.device, 0) {}
 
 // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
 void Levels::start() {
@@ -58,7 +59,8 @@ bool Levels::run() {
         if (region_ && level < in_.plan.finest()) children = keep_region(level, children);
         bytes.scratch =
             std::max<std::uint64_t>(bytes.scratch, counts_.bytes() + offsets_.bytes() + words_.bytes() + bits_.bytes() +
-                                                       sources_.bytes() + kept_words_.bytes() + split_words_.bytes());
+                                                       sources_.bytes() + kept_words_.bytes() + split_words_.bytes() +
+                                                       sibling_groups_.bytes());
         kept_.push_back(children);
         parent_count_ = children;
         if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0) {
@@ -358,26 +360,37 @@ std::size_t Levels::siblings_limit() const {
 }
 
 // cull_mark_siblings over this level's n new bricks: as many words a chunk as a parent's children and
-// its list use on average (the local memory beyond them costs occupancy), and as many work-groups a
-// parent, each with a share of its words, as fill the device, up to a chunk each on average (one
-// parent's long list would otherwise hold the level back).
+// its list use on average (the local memory beyond them costs occupancy), and a share of words a
+// work-group: the mean list split over as many work-groups as fill the device, a chunk at least. Each
+// parent gets as many work-groups as its list holds shares (sibling_groups, then their scan), so that
+// one parent's long list does not hold the level back.
 void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::uint64_t total_words, std::size_t lanes,
                            std::size_t group) {
     constexpr std::uint64_t kMaxSplits = 64;
+    const auto& k = in_.programs;
     const ocl::Kernel& kernel = in_.programs.siblings_kernel(in_.device, static_cast<int>(lanes));
     const std::uint64_t mean_words = (total_words + n - 1) / n, groups = parent_count_ * group;
     const std::uint64_t chunk_words =
         std::clamp<std::uint64_t>(std::min(group * lanes * parent_count_ / n, mean_words), 1, kMaxChunkWords);
     const std::uint64_t fill = (resident_items(siblings_limit()) + groups - 1) / groups;
     const std::uint64_t splits = std::clamp<std::uint64_t>(std::min(fill, mean_words / chunk_words), 1, kMaxSplits);
+    const auto share = static_cast<cl_uint>(std::max(chunk_words, (mean_words + splits - 1) / splits));
+    const auto parents = static_cast<cl_uint>(parent_count_);
+    if (sibling_groups_.size() < parent_count_)
+        sibling_groups_ = allocate<cl_uint>(in_.device, parent_count_, "the sibling cull's work-groups");
+    ocl::set_args(k.sibling_groups_k.get(), *parents_, offsets_, counts_, parents, share, sibling_groups_);
+    in_.scheduler.launch(measure::Stage::cull, level, k.sibling_groups_k.get(), round_up(parent_count_, kGroup1d),
+                         kGroup1d);
+    const std::uint64_t work_groups =
+        in_.scan.exclusive(sibling_groups_, sibling_groups_, parent_count_, in_.scheduler, measure::Stage::cull, level);
     ocl::set_args(kernel.get(), in_.prepared_edits, in_.edit_reaches, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
                   in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
                   in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
                   static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                   ocl::LocalMemory{chunk_words * 32 * sizeof(SdfPrepared)},
                   ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words),
-                  static_cast<cl_uint>(splits));
-    in_.scheduler.launch(measure::Stage::cull, level, kernel.get(), parent_count_ * splits * group, group);
+                  sibling_groups_, parents, share);
+    in_.scheduler.launch(measure::Stage::cull, level, kernel.get(), work_groups * group, group);
 }
 
 // Keeps the range of this level's bricks that subtrees_ picks; their lists stay where they are.

@@ -105,8 +105,8 @@ inline float float_down(double x) {
 // The compiled construction programs of one device (BrickBuilder keeps them).
 struct BuildPrograms {
     ocl::Program prepare, count, subdivide, cull, aabb, order;
-    ocl::Kernel prepare_k, count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k, cull_count_k,
-        write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
+    ocl::Kernel prepare_k, count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k,
+        sibling_groups_k, cull_count_k, write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -161,6 +161,7 @@ struct BuildPrograms {
           subdivide_k(ocl::make_kernel(subdivide, "brick_subdivide")),
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
           mark_siblings_k(ocl::make_kernel(cull, "cull_mark_siblings")),
+          sibling_groups_k(ocl::make_kernel(cull, "sibling_groups")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
@@ -359,6 +360,7 @@ private:
     ocl::Buffer<cl_uint> counts_, offsets_, words_, bits_;
     ocl::Buffer<cl_uint> sources_, kept_words_;  // per cull word: its first parent entry, kept count
     ocl::Buffer<cl_uint> split_words_;           // per split count work-group: its mask words and count
+    ocl::Buffer<cl_uint> sibling_groups_;        // per parent: its first cull_mark_siblings work-group
 };
 
 // Adaptive builds: each brick of a leaf level (coarsest_leaf .. finest - 1) is checked against the

@@ -357,15 +357,16 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
 // work-group per parent for its new children (cull_siblings 1: at every level with a parent per compute
 // unit, 0: at none); nor do the children kept untested below parents with long lists (count_untested
 // 16 and 64: more bricks at the coarse levels, the same leaves). Both the lists and the output are
-// compared: long lists at the top levels, smooth and hard edits, branching 2, adaptive leaves.
+// compared: long lists at the top levels, smooth and hard edits, branching 2, adaptive leaves, and
+// the whole of drops at 0.25, where the cull gives a parent with a long list several work-groups.
 TEST(ConstructBuild, CountPartsDoNotChangeTheOutput) {
-    const Geometry drops = drops_subset(128), carved = carved_geometry();
+    const Geometry drops = drops_subset(128), all_drops = drops_subset(1024), carved = carved_geometry();
     BuildSettings octree = settings(0.125), dependent = settings(0.125), adaptive = settings(0.0625);
     octree.branching = 2;
     dependent.dependencies = true;
     adaptive.tolerance = 0.01;
     for (auto [g, s] : {std::pair{&drops, settings(0.0625)}, {&carved, settings(0.125, BrickFormat::float32, 10)},
-                        {&drops, octree}, {&drops, dependent}, {&carved, adaptive}}) {
+                        {&drops, octree}, {&drops, dependent}, {&carved, adaptive}, {&all_drops, settings(0.25)}}) {
         const GeometryBuild automatic = builder().build(*g, s, test::recorder());
         ASSERT_GT(automatic.leaf_count, 0u);
         for (auto [parts, splits, siblings, untested] :
