@@ -303,13 +303,16 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(in_.device, total_words, "the cull bit sets");
     if (sources_.size() < total_words) sources_ = allocate<cl_uint>(in_.device, total_words, "the cull word sources");
     if (total_words > 0) cull_mark(level, children, saturation, total_words, siblings);
-    const ocl::Buffer<cl_uint>& dep_offsets = deps_ ? deps_->offsets : in_.empty_uints;
-    const ocl::Buffer<cl_uint>& dep_indices = deps_ ? deps_->indices : in_.empty_uints;
+    if (deps_) {
+        ocl::set_args(k.dependencies_k.get(), in_.edits, parent_lists, bricks, n, words_, bits_, deps_->offsets,
+                      deps_->indices);
+        in_.scheduler.launch(measure::Stage::cull, level, k.dependencies_k.get(), global, kGroup1d);
+    }
     if (kept_words_.size() < total_words + 1)
         kept_words_ = allocate<cl_uint>(in_.device, total_words + 1, "the cull kept counts");
-    ocl::set_args(k.cull_count_k.get(), in_.edits, parent_lists, bricks, n, static_cast<cl_uint>(total_words), words_,
-                  bits_, static_cast<cl_uint>(deps_ ? 1 : 0), dep_offsets, dep_indices, kept_words_);
-    in_.scheduler.launch(measure::Stage::cull, level, k.cull_count_k.get(), global, kGroup1d);
+    ocl::set_args(k.cull_count_k.get(), bits_, static_cast<cl_uint>(total_words), kept_words_);
+    in_.scheduler.launch(measure::Stage::cull, level, k.cull_count_k.get(), round_up(total_words + 1, kGroup1d),
+                         kGroup1d);
     const std::uint64_t entries =
         in_.scan.exclusive(kept_words_, kept_words_, total_words + 1, in_.scheduler, measure::Stage::cull, level);
     auto lists = std::make_unique<ocl::Buffer<cl_uint>>(
