@@ -242,6 +242,35 @@ TEST(ConstructBuild, CullingOnAndOffAreBitIdentical) {
     }
 }
 
+// With dependencies on, a leaf's list is the list without them plus dependencies: every extra entry
+// is an edit earlier than a smooth edit of the list without them (a smooth edit depends on earlier
+// edits only), and some leaves get extra entries (drops' smooth spheres chain).
+TEST(ConstructBuild, DependenciesAddEarlierEditsToTheLists) {
+    const Geometry g = drops_subset(128);
+    BuildSettings plain = settings(0.125), dependent = plain;
+    dependent.dependencies = true;
+    const GeometryBuild a = builder().build(g, plain, test::recorder());
+    const GeometryBuild b = builder().build(g, dependent, test::recorder());
+    ASSERT_EQ(a.leaf_count, b.leaf_count);
+    const std::vector<SdfBrick> la = a.leaves->read(), lb = b.leaves->read();
+    const std::vector<cl_uint> ia = a.leaf_edit_indices->read(), ib = b.leaf_edit_indices->read();
+    std::size_t added = 0;
+    for (std::size_t i = 0; i < la.size(); ++i) {
+        const auto first_a = ia.begin() + la[i].edit_offset, first_b = ib.begin() + lb[i].edit_offset;
+        const std::vector<cl_uint> sa(first_a, first_a + la[i].edit_count), sb(first_b, first_b + lb[i].edit_count);
+        ASSERT_TRUE(std::includes(sb.begin(), sb.end(), sa.begin(), sa.end())) << "leaf " << i;
+        cl_uint last_smooth = 0;
+        for (cl_uint e : sa)
+            if (g.edits[e].blend > 0.0f) last_smooth = std::max(last_smooth, e);
+        for (cl_uint e : sb) {
+            if (std::binary_search(sa.begin(), sa.end(), e)) continue;
+            ++added;
+            EXPECT_LT(e, last_smooth) << "leaf " << i << ": edit " << e << " is no earlier than a smooth edit";
+        }
+    }
+    EXPECT_GT(added, 0u);
+}
+
 TEST(ConstructBuild, RepeatedRunsAreBitIdentical) {
     const Geometry g = drops_subset(64);
     const BuildSettings s = settings(0.125);
