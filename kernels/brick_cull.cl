@@ -5,9 +5,8 @@
  * Lists stay unique and ascending: a bit per parent-list entry, then compaction.
  *   (brick_subdivide wrote the words of each brick's bit set; cull_words for a re-cull)  -> scan -> word offsets
  *   cull_mark:  the bit set, and where each word's entries are in the parent lists
- *   cull_clear, cull_dependencies (with dependencies on): the bits of the kept smooth edits'
- *               dependencies, apart
- *   cull_count: those bits joined in, the kept count per word  -> scan -> each word's output slot
+ *   cull_dependencies (with dependencies on): the bits of the kept smooth edits' dependencies
+ *   cull_count: the kept count per word  -> scan -> each word's output slot
  *   cull_write: the compacted lists; the bricks' edit_offset / edit_count now name them
  * cull_mark and cull_write take `span` bits per work-item (a power of two up to 32): 1 where a level
  * has few (the top levels: few bricks, long lists), so that the device is full, up to a word where it
@@ -194,53 +193,38 @@ __kernel void cull_mark_siblings(__global const SdfPrepared* prepared, __global 
 }
 
 
-/* With dependencies on: dep_bits cleared for the words of this level's bit sets. */
-__kernel void cull_clear(__global uint* dep_bits, uint total_words) {
-    const uint w = get_global_id(0);
-    if (w < total_words) dep_bits[w] = 0u;
-}
-
-/* With dependencies on, a word a work-item: the dependencies of every edit that cull_mark kept in it
- * and that is smooth (and that the inherited list holds) get their bits in dep_bits (an OR: the order
- * does not matter). Only the bits cull_mark set are read, so the dependencies of a dependency are not
- * added (no closure). */
+/* Per brick (with dependencies on): the dependencies of every edit kept by cull_mark that is smooth
+ * (and that the inherited list holds; no closure) get their bits too. */
 __kernel void cull_dependencies(__global const SdfEdit* edits, __global const uint* parent_indices,
-                                __global const SdfBrick* bricks, uint count, uint total_words,
-                                __global const uint* word_offsets, __global const uint* bits,
-                                __global const uint* dep_offsets, __global const uint* dep_indices,
-                                __global uint* dep_bits) {
-    const uint w = get_global_id(0);
-    if (w >= total_words) return;
-    const uint i = owner_of(word_offsets, count, w);
+                                __global const SdfBrick* bricks, uint count, __global const uint* word_offsets,
+                                __global uint* bits, __global const uint* dep_offsets,
+                                __global const uint* dep_indices) {
+    const uint i = get_global_id(0);
+    if (i >= count) return;
     const SdfBrick b = bricks[i];
     __global const uint* list = parent_indices + b.edit_offset;
-    const uint first = word_offsets[i];
-    uint word = bits[w];
-    while (word != 0u) {
-        const uint j = ((w - first) << 5) + (31u - clz(word & (0u - word)));
-        word &= word - 1u;
-        const uint edit = list[j];
-        if (!(edits[edit].blend > 0.0f)) continue;
-        for (uint d = dep_offsets[edit]; d < dep_offsets[edit + 1u]; ++d) {
-            const uint q = find_sorted(list, b.edit_count, dep_indices[d]);
-            if (q < b.edit_count) atomic_or(&dep_bits[first + (q >> 5)], 1u << (q & 31u));
+    __global uint* mask = bits + word_offsets[i];
+    const uint words = (b.edit_count + 31u) >> 5;
+    for (uint w = 0; w < words; ++w) {
+        uint word = mask[w];
+        while (word != 0u) {
+            const uint j = (w << 5) + (31u - clz(word & (0u - word)));
+            word &= word - 1u;
+            const uint edit = list[j];
+            if (!(edits[edit].blend > 0.0f)) continue;
+            for (uint d = dep_offsets[edit]; d < dep_offsets[edit + 1u]; ++d) {
+                const uint q = find_sorted(list, b.edit_count, dep_indices[d]);
+                if (q < b.edit_count) mask[q >> 5] |= 1u << (q & 31u);
+            }
         }
     }
 }
 
-/* Per word: the dependencies' bits joined in (with_dependencies), then its kept count (kept_words has
- * one more entry than there are words: a 0, so that its prefix sum ends in the total). */
-__kernel void cull_count(__global uint* bits, __global const uint* dep_bits, uint with_dependencies,
-                         uint total_words, __global uint* kept_words) {
+/* Per word: its kept count (kept_words has one more entry than there are words: a 0, so that its
+ * prefix sum ends in the total). A word per work-item: a brick's long list is no serial walk. */
+__kernel void cull_count(__global const uint* bits, uint total_words, __global uint* kept_words) {
     const uint w = get_global_id(0);
-    if (w < total_words) {
-        uint word = bits[w];
-        if (with_dependencies) {
-            word |= dep_bits[w];
-            bits[w] = word;
-        }
-        kept_words[w] = popcount(word);
-    }
+    if (w < total_words) kept_words[w] = popcount(bits[w]);
     if (w == total_words) kept_words[w] = 0u;
 }
 

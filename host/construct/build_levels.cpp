@@ -26,8 +26,7 @@ Levels::Levels(BuildInputs& in, const Subtrees* subtrees, AdaptiveLeaves* adapti
       sources_(ocl::pooled, in.device, 0),
       kept_words_(ocl::pooled, in.device, 0),
       split_words_(ocl::pooled, in.device, 0),
-      sibling_groups_(ocl::pooled, in.device, 0),
-      dep_bits_(ocl::pooled, in.device, 0) {}
+      sibling_groups_(ocl::pooled, in.device, 0) {}
 
 // The root's list (every edit, ascending), the pseudo-parent of level 0, the dependencies.
 void Levels::start() {
@@ -61,7 +60,7 @@ bool Levels::run() {
         bytes.scratch =
             std::max<std::uint64_t>(bytes.scratch, counts_.bytes() + offsets_.bytes() + words_.bytes() + bits_.bytes() +
                                                        sources_.bytes() + kept_words_.bytes() + split_words_.bytes() +
-                                                       sibling_groups_.bytes() + dep_bits_.bytes());
+                                                       sibling_groups_.bytes());
         kept_.push_back(children);
         parent_count_ = children;
         if (adaptive_ && level >= in_.plan.coarsest_leaf && level < in_.plan.finest() && children > 0) {
@@ -292,6 +291,7 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     const auto& k = in_.programs;
     const ocl::Buffer<SdfBrick>& bricks = *parents_;  // this level's bricks (subdivide moved them there)
     const ocl::Buffer<cl_uint>& parent_lists = *parent_lists_;
+    const std::size_t global = round_up(children, kGroup1d);
     const auto n = static_cast<cl_uint>(children);
     const std::uint64_t total_words =
         in_.scan.exclusive(words_, words_, children, in_.scheduler, measure::Stage::cull, level);
@@ -303,11 +303,14 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     if (bits_.size() < total_words) bits_ = allocate<cl_uint>(in_.device, total_words, "the cull bit sets");
     if (sources_.size() < total_words) sources_ = allocate<cl_uint>(in_.device, total_words, "the cull word sources");
     if (total_words > 0) cull_mark(level, children, saturation, total_words, siblings);
-    if (deps_ && total_words > 0) mark_dependencies(level, n, total_words);
+    if (deps_) {
+        ocl::set_args(k.dependencies_k.get(), in_.edits, parent_lists, bricks, n, words_, bits_, deps_->offsets,
+                      deps_->indices);
+        in_.scheduler.launch(measure::Stage::cull, level, k.dependencies_k.get(), global, kGroup1d);
+    }
     if (kept_words_.size() < total_words + 1)
         kept_words_ = allocate<cl_uint>(in_.device, total_words + 1, "the cull kept counts");
-    ocl::set_args(k.cull_count_k.get(), bits_, deps_ ? dep_bits_ : in_.empty_uints, static_cast<cl_uint>(deps_ ? 1 : 0),
-                  static_cast<cl_uint>(total_words), kept_words_);
+    ocl::set_args(k.cull_count_k.get(), bits_, static_cast<cl_uint>(total_words), kept_words_);
     in_.scheduler.launch(measure::Stage::cull, level, k.cull_count_k.get(), round_up(total_words + 1, kGroup1d),
                          kGroup1d);
     const std::uint64_t entries =
@@ -322,20 +325,6 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     bytes.lists += lists->bytes();
     std::swap(parent_lists_, lists);
     return lists;
-}
-
-// With dependencies on: the bits of the dependencies of the smooth edits cull_mark kept, in dep_bits_
-// (cull_count joins them in), a word a work-item.
-void Levels::mark_dependencies(int level, cl_uint n, std::uint64_t total_words) {
-    const auto& k = in_.programs;
-    const auto words = static_cast<cl_uint>(total_words);
-    const std::size_t global = round_up(total_words, kGroup1d);
-    if (dep_bits_.size() < total_words) dep_bits_ = allocate<cl_uint>(in_.device, total_words, "the cull dependency bits");
-    ocl::set_args(k.clear_k.get(), dep_bits_, words);
-    in_.scheduler.launch(measure::Stage::cull, level, k.clear_k.get(), global, kGroup1d);
-    ocl::set_args(k.dependencies_k.get(), in_.edits, *parent_lists_, *parents_, n, words, words_, bits_, deps_->offsets,
-                  deps_->indices, dep_bits_);
-    in_.scheduler.launch(measure::Stage::cull, level, k.dependencies_k.get(), global, kGroup1d);
 }
 
 // Where a level has many parents (settings.cull_siblings per compute unit) with several new bricks

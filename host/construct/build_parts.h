@@ -106,7 +106,7 @@ inline float float_down(double x) {
 struct BuildPrograms {
     ocl::Program prepare, count, subdivide, cull, aabb, order;
     ocl::Kernel prepare_k, count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k,
-        sibling_groups_k, clear_k, dependencies_k, cull_count_k, write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
+        sibling_groups_k, dependencies_k, cull_count_k, write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -162,7 +162,6 @@ struct BuildPrograms {
           words_k(ocl::make_kernel(cull, "cull_words")), mark_k(ocl::make_kernel(cull, "cull_mark")),
           mark_siblings_k(ocl::make_kernel(cull, "cull_mark_siblings")),
           sibling_groups_k(ocl::make_kernel(cull, "sibling_groups")),
-          clear_k(ocl::make_kernel(cull, "cull_clear")),
           dependencies_k(ocl::make_kernel(cull, "cull_dependencies")),
           cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
@@ -330,8 +329,6 @@ private:
     // Culls the lists of this level's n bricks (parents_) at `saturation`; returns the lists replaced.
     // siblings: they are the children subdivide just wrote (offsets_ and counts_ place them).
     std::unique_ptr<ocl::Buffer<cl_uint>> cull_lists(int level, std::uint64_t n, float saturation, bool siblings);
-    // cull_lists' dependency bits (dep_bits_) for the n bricks' total_words words.
-    void mark_dependencies(int level, cl_uint n, std::uint64_t total_words);
     // cull_lists' bits (bits_, sources_) of total_words words.
     void cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings);
     // cull_mark_siblings for cull_mark (group: work-items per parent, at least its children), and its
@@ -365,7 +362,6 @@ private:
     ocl::Buffer<cl_uint> sources_, kept_words_;  // per cull word: its first parent entry, kept count
     ocl::Buffer<cl_uint> split_words_;           // per split count work-group: its mask words and count
     ocl::Buffer<cl_uint> sibling_groups_;        // per parent: its first cull_mark_siblings work-group
-    ocl::Buffer<cl_uint> dep_bits_;              // per cull word: its dependencies' bits (with dependencies)
 };
 
 // Adaptive builds: each brick of a leaf level (coarsest_leaf .. finest - 1) is checked against the
