@@ -55,8 +55,8 @@ ocl::Buffer<T> allocate(ocl::Device& d, std::size_t count, std::string_view what
     }
 }
 
-// A list entry read with the edit it names.
-constexpr std::uint64_t kEntryBytes = sizeof(cl_uint) + sizeof(SdfEdit);
+// A list entry read with the edit it names, prepared (the stages that walk lists read SdfPrepared).
+constexpr std::uint64_t kEntryBytes = sizeof(cl_uint) + sizeof(SdfPrepared);
 
 // The edits a kernel stages at once: `wanted`, or as many of per_edit bytes each as the device's
 // local_bytes hold beside the used ones (the kernel's own arrays and its other __local arguments);

@@ -99,7 +99,7 @@ TEST(KernelsLayout, HostSizesHaveNoPadding) {
     static_assert(sizeof(SdfBrickGeometry) == 8 * 4);
     static_assert(sizeof(SdfShading) == 12 * 4);
     static_assert(sizeof(SdfMeshGrid) == 12 * 4);  // the mesh pool holds headers as 12 floats each
-    static_assert(sizeof(SdfPrepared) == sizeof(SdfEdit));  // staged in the same local memory
+    static_assert(sizeof(SdfPrepared) == sizeof(SdfEdit));  // the staged chunks' local memory, as tuned
     static_assert(alignof(SdfEdit) == 4 && alignof(SdfBrick) == 4);
 }
 
