@@ -247,9 +247,9 @@ void Levels::cull(int level, std::uint64_t children) {
 // children, one after the other on a CPU core. Short lists cost less to count than the re-cull's
 // launches and its scans' host waits: grooved_board on PoCL (16 cores, lists of 3 edits) took 25-26
 // ms against 23.6 with a re-cull at every checked level, and on the H200 every hard case was slower
-// with it (docs/construction.md).
+// with it; engraved_slab's candidates of cell 0.25 (about 60 edits) gain from it (docs/construction.md).
 bool Levels::recull_pays(int level) const {
-    constexpr std::uint64_t kLongList = 64;
+    constexpr std::uint64_t kLongList = 32;
     if (in_.device.info().type == "gpu" || parent_entries_.back() < kLongList * parent_count_) return false;
     const double radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
     const double ratio = (in_.plan.parent_saturation(level) + radius) / (in_.plan.cull_saturation(level) + radius);

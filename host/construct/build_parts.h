@@ -178,6 +178,7 @@ struct BuildPlan {
     double magnitude = 0.0;     // largest |coordinate| of the domain
     double voxel = 0.0;
     float band = 0.0f, clamp_c = 0.0f;
+    int apron = 1;      // samples outside a brick's cell on each side
     bool hard = false;  // no edit blends: clamping the fold commutes with every combine
 
     // The keep threshold of a cell of `level`: its half diagonal with margins for float rounding.
@@ -211,10 +212,17 @@ struct BuildPlan {
     std::vector<float> level_clamp;
     int finest() const { return domain.levels - 1; }
     int shift(int level) const { return (finest() - level) * static_cast<int>(log2b); }
+    // What a list culled with cull_radius must hold for the evaluation of a leaf of level m: C_m,
+    // and where m is coarser than the finest, further out by the part of its apron (apron - 1/2 of
+    // its own voxels outside its cell) that cull_radius, in finest voxels, does not count.
+    float leaf_saturation(int m) const {
+        const double wider = std::sqrt(3.0) * (apron - 0.5) * (std::ldexp(voxel, shift(m)) - voxel);
+        return m >= finest() ? level_clamp[m] : float_up((double(level_clamp[m]) + wider) * (1.0 + 1e-6));
+    }
     // The saturation that culling at `level` keeps exact: the children's count test, and the
     // evaluation of this level's bricks (and every finer level's) as leaves.
     float cull_saturation(int level) const {
-        return std::max(saturation(level + 1), level_clamp[std::max(level, coarsest_leaf)]);
+        return std::max(saturation(level + 1), leaf_saturation(std::max(level, coarsest_leaf)));
     }
     // The saturation that a checked level's parents (the bricks that did not pass) are culled again
     // with: their children's count test and the children's own cull, not their own evaluation as

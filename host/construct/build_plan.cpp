@@ -47,7 +47,7 @@ void plan_adaptive(BuildPlan& p, const BuildSettings& s, double blend) {
     for (int l = p.coarsest_leaf; l < p.finest(); ++l) {
         const double band = std::ldexp(double(p.band), p.shift(l));
         p.level_clamp[static_cast<std::size_t>(l)] =
-            float_up(std::max<double>(band, p.threshold(l)) * (1.0 + 1.0 / 256.0) + blend);
+            std::max(p.clamp_c, float_up(band * (1.0 + 1.0 / 256.0) + blend));
     }
 }
 
@@ -74,6 +74,7 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
         std::max({glm::abs(lo).x, glm::abs(lo).y, glm::abs(lo).z, std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
     p.voxel = s.voxel();
     p.band = static_cast<float>(s.band_voxels * p.voxel);
+    p.apron = s.layout().apron();
     const double largest = largest_blend(g);
     p.hard = largest == 0.0;
     const double blend = s.guard * largest;

@@ -297,6 +297,38 @@ TEST(ConstructAdaptive, CullingTheCheckedParentsAgainChangesNoBit) {
     EXPECT_EQ(on.check_error_p99, off.check_error_p99);
 }
 
+// A coarse leaf reads samples up to 1.5 of its own voxels outside its cell with 10^3 samples: its
+// level's list must hold every edit that reaches them, not only those that reach the finest
+// level's apron. A slab with seven small cuts (taken from engraved_slab, where culling on and off
+// gave different samples before).
+TEST(ConstructAdaptive, CoarseLeavesKeepTheEditsTheirWideApronsReach) {
+    Geometry g;
+    g.name = "cut slab";
+    Edit slab;
+    slab.primitive = Primitive::RoundBox;
+    slab.params = {3.0, 0.25, 2.0, 0.1};
+    g.edits.push_back(slab);
+    const double cuts[7][6] = {{0.0371, 0.0212, 0.0343, -2.7445, 0.25, -0.8406}, {0.0186, 0.0155, 0.0304, -2.7481, 0.25, -0.7611},
+                               {0.016, 0.0252, 0.0137, -2.6604, 0.25, -0.8125},  {0.0239, 0.0262, 0.0158, -2.7173, 0.25, -0.8225},
+                               {0.0262, 0.0288, 0.0173, -2.7008, 0.25, -0.8363}, {0.0345, 0.0118, 0.028, -2.6949, 0.25, -0.8358},
+                               {0.0288, 0.0283, 0.0276, -2.6319, 0.25, -0.8573}};
+    for (const auto& c : cuts) {
+        Edit cut;
+        cut.primitive = Primitive::Box;
+        cut.op = Op::Subtract;
+        cut.params = {c[0], c[1], c[2], 0.0};
+        cut.transform.translation = {c[3], c[4], c[5]};
+        g.edits.push_back(cut);
+    }
+    BuildSettings s = adaptive(0.0625, 0.008);
+    s.samples = 10;
+    const GeometryBuild on = builder().build(g, s, test::recorder());
+    EXPECT_GT(on.leaf_count, 0u);
+    const std::string digest = construct::output_digest(on, s);
+    s.cull = false;
+    EXPECT_EQ(construct::output_digest(builder().build(g, s, test::recorder()), s), digest) << "culling off";
+}
+
 // The check stages as much of its chunk as the device's local memory holds beside its own arrays
 // (10^3 samples take about 28 KB of a 32 KB device); the fold does not depend on the chunk.
 TEST(ConstructAdaptive, TheCheckStagesWhatLocalMemoryHolds) {
