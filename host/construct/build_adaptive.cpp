@@ -96,7 +96,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
     ocl::set_args(thin.get(), in_.edits, in_.meshes, lists, bricks, in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
-                  in_.plan.cull_radius(level, layout.apron()), children ? *children : in_.empty_uints, min_children,
+                  in_.plan.cull_radius(level), children ? *children : in_.empty_uints, min_children,
                   masked, out.passed);
     // A CPU core runs a work-group's items one after another, mostly idle on short lists: 16 of them
     // there (PoCL here: brick_thin 0.40 -> 0.18 ms a build on board, 2.0 -> 1.6 on engraved_slab).

@@ -251,7 +251,7 @@ void Levels::cull(int level, std::uint64_t children) {
 bool Levels::recull_pays(int level) const {
     constexpr std::uint64_t kLongList = 32;
     if (in_.device.info().type == "gpu" || parent_entries_.back() < kLongList * parent_count_) return false;
-    const double radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
+    const double radius = in_.plan.cull_radius(level);
     const double ratio = (in_.plan.parent_saturation(level) + radius) / (in_.plan.cull_saturation(level) + radius);
     return ratio * ratio * ratio <= 0.5;
 }
@@ -336,7 +336,7 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
 void Levels::cull_mark(int level, std::uint64_t n, float saturation, std::uint64_t total_words, bool siblings) {
     constexpr std::uint64_t kMinSiblings = 8, kGpuMinWords = 8;
     const auto& k = in_.programs;
-    const float radius = in_.plan.cull_radius(level, in_.settings.layout().apron());
+    const float radius = in_.plan.cull_radius(level);
     const std::size_t per_parent = std::size_t{1} << (3 * level_log2b(level));
     const std::uint64_t parents_from =
         static_cast<std::uint64_t>(in_.settings.cull_siblings) * in_.device.info().compute_units;
@@ -388,7 +388,7 @@ void Levels::mark_siblings(int level, std::uint64_t n, float saturation, std::ui
         in_.scan.exclusive(sibling_groups_, sibling_groups_, parent_count_, in_.scheduler, measure::Stage::cull, level);
     ocl::set_args(kernel.get(), in_.prepared_edits, in_.edit_reaches, in_.meshes, *parent_lists_, *parents_, offsets_, counts_,
                   in_.origin.x, in_.origin.y, in_.origin.z, cell(level),
-                  in_.plan.cull_radius(level, in_.settings.layout().apron()), saturation,
+                  in_.plan.cull_radius(level), saturation,
                   static_cast<float>(in_.plan.magnitude), words_, bits_, sources_,
                   ocl::LocalMemory{chunk_words * 32 * sizeof(SdfPrepared)},
                   ocl::LocalMemory{chunk_words * 32 * sizeof(cl_float)}, static_cast<cl_uint>(chunk_words),

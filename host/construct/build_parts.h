@@ -186,7 +186,7 @@ struct BuildPlan {
         return float_up(domain.half_diagonal(level) * (1.0 + 1.0 / 1024.0) + magnitude * std::ldexp(1.0, -16));
     }
     // The cull test's radius at `level`: a child's cell plus the apron samples around it.
-    float cull_radius(int level, int apron) const {
+    float cull_radius(int level) const {
         return float_up(std::sqrt(3.0) * (0.5 * domain.cell_size(level) + (apron - 0.5) * voxel) * (1.0 + 1e-6));
     }
     // The saturation the count test of `level` folds with: C where its threshold is below C, else

@@ -61,8 +61,8 @@ bool same_frame(const detail::BuildPlan& plan, const GeometryBuild& before, cons
 struct ReachMargins {
     double own = 0.0, below = 0.0;
 };
-ReachMargins reach_margins(const detail::BuildPlan& plan, int level, int apron) {
-    const auto cull = [&](int k) { return double(plan.cull_saturation(k)) + double(plan.cull_radius(k, apron)); };
+ReachMargins reach_margins(const detail::BuildPlan& plan, int level) {
+    const auto cull = [&](int k) { return double(plan.cull_saturation(k)) + double(plan.cull_radius(k)); };
     ReachMargins m{cull(level), 0.0};
     for (int k = level + 1; k <= plan.finest(); ++k)
         m.below = std::max({m.below, double(plan.saturation(k)) + double(plan.threshold(k)), cull(k)});
@@ -76,12 +76,12 @@ ReachMargins reach_margins(const detail::BuildPlan& plan, int level, int apron) 
 struct Reach {
     std::vector<std::vector<Aabb>> own, below;
 };
-Reach reach_of(const detail::BuildPlan& plan, const EditChange& change, int apron) {
+Reach reach_of(const detail::BuildPlan& plan, const EditChange& change) {
     Reach out;
     out.own.resize(static_cast<std::size_t>(plan.finest()));
     out.below.resize(out.own.size());
     for (int l = 0; l < plan.finest(); ++l) {
-        const ReachMargins m = reach_margins(plan, l, apron);
+        const ReachMargins m = reach_margins(plan, l);
         for (const std::vector<Edit>* list : {&change.before, &change.after})
             for (const Edit& e : *list) {
                 const glm::dvec3& t = e.transform.translation;
@@ -113,8 +113,8 @@ struct Run {
 // runs of the earlier leaves.
 class Confinement {
 public:
-    Confinement(const detail::BuildPlan& plan, const std::vector<SdfBrick>& old_records, const EditChange& change, int apron)
-        : plan_(plan), reach_(reach_of(plan, change, apron)) {
+    Confinement(const detail::BuildPlan& plan, const std::vector<SdfBrick>& old_records, const EditChange& change)
+        : plan_(plan), reach_(reach_of(plan, change)) {
         keys_.reserve(old_records.size());
         for (const SdfBrick& b : old_records) keys_.push_back(lattice_key(b, 0));
     }
@@ -235,7 +235,7 @@ std::optional<GeometryBuild> BrickBuilder::rebuild(const Geometry& g, const Buil
     part.first_launch = scheduler.size();
     part.leaf_size = before.leaf_size;
     detail::BuildInputs in(device_, *programs_, scan_, g, s, plan, scheduler, part, prepared);
-    Confinement confinement(plan, records, change, s.layout().apron());
+    Confinement confinement(plan, records, change);
     const detail::Region region = confinement.region();
     detail::Levels levels(in, nullptr, nullptr, &region);
     levels.start();
