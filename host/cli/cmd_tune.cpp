@@ -26,7 +26,7 @@ namespace sdfbrick::cli {
 namespace {
 
 struct TuneOptions {
-    std::string file;
+    std::vector<std::string> files;
     BuildFlags flags;
     std::vector<std::string> kernels{"evaluate", "trace"};
     tune::TuneSpec spec;  // strategy, budget, seed, warm-up, repeats, trace image
@@ -49,10 +49,8 @@ std::string now_iso() {
 }
 
 // Every configuration as it is measured.
-void print_measured(std::size_t n, const tune::Config& c, double ms) {
-    std::string params;
-    for (const auto& [k, v] : c) params += fmt::format(" {} {}", k, v);
-    say(fmt::format("    {:>3}.{:<24} {}\n", n, params, std::isfinite(ms) ? fmt::format("{:.4f} ms", ms) : "not runnable"));
+void print_measured(std::size_t n, const tune::Config& c, double cost, std::span<const double> scene_ms) {
+    say(tune::measured_line(n, c, cost, scene_ms));
 }
 
 // The selected kernels, in the tuner's order.
@@ -73,8 +71,11 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     tune::TuneSpec spec = o.spec;
     spec.method = method_flag(o.method);
     const construct::BuildSettings base = o.flags.resolve();
-    const Scene file_scene = load_scene_warned(o.file);
-    const Scene scene = scene_at(file_scene, file_scene.time);
+    std::vector<tune::TuneScene> scenes;
+    for (const std::string& file : o.files) {
+        const Scene file_scene = load_scene_warned(file);
+        scenes.push_back({scene_at(file_scene, file_scene.time), file});
+    }
     ocl::DeviceSet devices = ocl::DeviceSet::open(global.device);
     if (global.no_tuning) throw InputError("tune writes the tuning database: drop --no-tuning");
     const TuningChoice choice = open_tuning(global);
@@ -86,20 +87,22 @@ void run_tune(const TuneOptions& o, const GlobalOptions& global) {
     check_output_paths(paths);
     for (ocl::Device& device : devices) base.validate(device.info());  // the checks build makes, before any work
 
-    say(fmt::format("tune {} ({}), brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n", scene.name,
-                    o.file, base.leaf_size, o.spec.repeat, o.spec.warmup, o.spec.strategy, o.spec.budget));
+    std::string names;
+    for (const tune::TuneScene& s : scenes) names += fmt::format("{}{} ({})", names.empty() ? "" : ", ", s.scene.name, s.file);
+    say(fmt::format("tune {}, brick size {}, {} repeats after {} warm-up, strategy {}, budget {}\n", names,
+                    base.leaf_size, o.spec.repeat, o.spec.warmup, o.spec.strategy, o.spec.budget));
     nlohmann::json device_reports = nlohmann::json::array();
     const std::string started = now_iso();
     for (ocl::Device& device : devices) {
         pipeline::Executor executor(device);
         device_reports.push_back(
-            tune::tune_device(executor.lane(0), scene, o.file, kernels, base, spec, db, now_iso(), say, print_measured));
+            tune::tune_device(executor.lane(0), scenes, kernels, base, spec, db, now_iso(), say, print_measured));
     }
     db.save(*choice.path);
     say(fmt::format("tuning database: {}\n", choice.path->string()));
     std::vector<Output> outputs;
     if (o.json)
-        outputs.push_back(text_output(*o.json, format_json({{"command", "tune"}, {"scene", o.file},
+        outputs.push_back(text_output(*o.json, format_json({{"command", "tune"}, {"scenes", o.files},
                                                             {"tuning_db", choice.path->string()}, {"devices", device_reports}})));
     if (o.t4) outputs.push_back(text_output(*o.t4, tune::t4_results(device_reports, started).dump(2) + "\n"));
     write_all(outputs);
@@ -162,7 +165,8 @@ void add_tune_command(CLI::App& app, const GlobalOptions& global) {
     auto o = std::make_shared<TuneOptions>();
     auto* cmd = app.add_subcommand("tune", "Search the evaluation chunk and work-group size and the trace work-group "
                                            "shape per selected device; write the best to the tuning database");
-    cmd->add_option("file", o->file, "scene file (JSON) to tune on")->required();
+    cmd->add_option("files", o->files, "scene files (JSON) to tune on; with several, a configuration's cost is the "
+                                       "geometric mean of its times on them")->required();
     o->flags.add_to(cmd);
     cmd->add_option("--kernels", o->kernels, "evaluate and/or trace")->delimiter(',')->capture_default_str();
     cmd->add_option("--strategy", o->spec.strategy, "auto (full when the space fits the budget, else anneal), full, random, anneal")->capture_default_str();

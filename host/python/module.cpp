@@ -817,7 +817,13 @@ public:
         return to_python(report);
     }
 
-    py::object tune(const PyScene& scene, const py::object& progress, bool save, const py::kwargs& kwargs) {
+    py::object tune(const py::object& scene_or_list, const py::object& progress, bool save, const py::kwargs& kwargs) {
+        std::vector<PyScene> scenes;
+        if (py::isinstance<py::list>(scene_or_list) || py::isinstance<py::tuple>(scene_or_list))
+            scenes = scene_or_list.cast<std::vector<PyScene>>();
+        else
+            scenes.push_back(scene_or_list.cast<PyScene>());
+        if (scenes.empty()) throw SettingError("scenes", "tune needs at least one scene");
         Kwargs k(kwargs, "tune");
         tune::TuneSpec spec;
         std::vector<std::string> names{"evaluate", "trace"};
@@ -854,10 +860,8 @@ public:
                 const py::gil_scoped_acquire gil;
                 progress(text(line));
             };
-            measured = [say](std::size_t n, const tune::Config& c, double ms) {
-                std::string params;
-                for (const auto& [name, value] : c) params += fmt::format(" {} {}", name, value);
-                say(fmt::format("    {:>3}.{:<24} {}\n", n, params, std::isfinite(ms) ? fmt::format("{:.4f} ms", ms) : "not runnable"));
+            measured = [say](std::size_t n, const tune::Config& c, double cost, std::span<const double> scene_ms) {
+                say(tune::measured_line(n, c, cost, scene_ms));
             };
         }
         const std::string tuned_at =
@@ -868,19 +872,22 @@ public:
             const py::gil_scoped_release release;
             const std::lock_guard lock(mutex_);
             pipeline::Executor& executor = open_executor();
-            const Scene at = scene.at(std::nullopt);
+            std::vector<tune::TuneScene> at;
+            for (const PyScene& scene : scenes) at.push_back({scene.at(std::nullopt), scene.file.value_or("")});
             for (std::size_t i = 0; i < executor.size(); ++i) base.validate(executor.device(i).info());
             tune::TuningDb db = tuning_db_ ? *tuning_db_ : tune::TuningDb();
             for (std::size_t i = 0; i < executor.size(); ++i)
-                device_reports.push_back(tune::tune_device(executor.lane(i), at, scene.file.value_or(""), kernels, base,
-                                                           spec, db, tuned_at, say, measured));
+                device_reports.push_back(
+                    tune::tune_device(executor.lane(i), at, kernels, base, spec, db, tuned_at, say, measured));
             if (save) {
                 db.save(*tuning_path_);
                 tuning_db_ = std::move(db);
             }
         }
+        nlohmann::json files = nlohmann::json::array();
+        for (const PyScene& scene : scenes) files.push_back(scene.file.value_or(""));
         return to_python({{"command", "tune"},
-                          {"scene", scene.file.value_or("")},
+                          {"scenes", files},
                           {"tuning_db", save ? nlohmann::json(tuning_path_->string()) : nlohmann::json(nullptr)},
                           {"devices", device_reports}});
     }
@@ -1038,9 +1045,10 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def("stability", &Context::stability, py::arg("cases"), py::kw_only(), py::arg("progress") = py::none(),
              "The stability atlas over cases (files, FILE@BRICK_SIZE or Scene objects from files): brick_size, methods, "
              "normals, formats, builds, tolerance_voxels, width, height, pictures. Returns the report.")
-        .def("tune", &Context::tune, py::arg("scene"), py::kw_only(), py::arg("progress") = py::none(),
+        .def("tune", &Context::tune, py::arg("scenes"), py::kw_only(), py::arg("progress") = py::none(),
              py::arg("save") = false,
-             "Tunes the evaluation and trace kernels on every device of the context (kernels, strategy, budget, seed, "
+             "Tunes the evaluation and trace kernels on every device of the context over a Scene or a list of them (with "
+             "several, a configuration's cost is the geometric mean of its times on each; kernels, strategy, budget, seed, "
              "repeat, warmup, width, height, and the build's keyword arguments). Returns the report of `sdfbrick tune "
              "--json`; save=True also writes the winners to the context's tuning database, which later calls use. "
              "progress: called with each line `sdfbrick tune` prints.");

@@ -4,7 +4,7 @@ import json
 import pytest
 
 import sdfbrick
-from conftest import DEVICE
+from conftest import DEVICE, SCENES
 
 SMALL = dict(kernels=["evaluate"], strategy="random", budget=2, repeat=1, warmup=0, brick_size=0.25)
 
@@ -48,3 +48,16 @@ def test_tune_traces_with_the_method_given(ctx, spheres):
     assert report["devices"][0]["trace_primary"]["method"] == "hybrid"
     with pytest.raises(sdfbrick.InputError, match="^method: "):
         ctx.tune(spheres, kernels=["trace"], method="cubic", **{k: v for k, v in SMALL.items() if k != "kernels"})
+
+
+def test_tune_over_several_scenes_reports_each_ones_time(ctx, spheres):
+    cubes = sdfbrick.Scene.load(str(SCENES / "cubes.json"))
+    report = ctx.tune([spheres, cubes], **SMALL)
+    assert report["scenes"] == [spheres.file, cubes.file]
+    record = report["devices"][0]["brick_evaluate"]
+    assert record["scenes"] == report["scenes"] and "geometric mean" in record["objective"]
+    for measured in record["evaluated_configurations"]:
+        first, second = measured["scene_ms"]
+        assert measured["ms"] == pytest.approx((first * second) ** 0.5)
+    with pytest.raises(sdfbrick.InputError, match="^scenes: "):
+        ctx.tune([], **SMALL)

@@ -61,7 +61,7 @@ namespace fs = std::filesystem;
 TEST(TuneT4, ARealTuningRunIsValidT4Results) {
     const fs::path dir = test::temp_dir("tune_t4_run");
     const test::CliRun r = test::sdfbrick(
-        "tune " + test::scene_path("spheres") + " --brick-size 0.25 --strategy random --budget 3 --repeat 1 --warmup 0 "
+        "tune " + test::scene_path("spheres") + " " + test::scene_path("cubes") + " --brick-size 0.25 --strategy random --budget 3 --repeat 1 --warmup 0 "
         "--width 32 --height 24 --t4 " + (dir / "run.t4.json").string() + " --json " + (dir / "r.json").string(),
         test::device_env() + " SDFBRICK_TUNING_DB=" + (dir / "db.json").string());
     ASSERT_EQ(r.status, 0) << r.err;

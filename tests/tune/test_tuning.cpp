@@ -330,7 +330,7 @@ TEST(TuneTuning, EvaluationRegisterCapIsItsOwnParameter) {
 // reported, the default measured.
 TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
     const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json");
-    const Scene scene = scene_at(file, file.time);
+    const tune::TuneScene scene{scene_at(file, file.time), "spheres.json"};
     pipeline::Lane runner(test::device());
     construct::BuildSettings base;
     base.leaf_size = 0.5;
@@ -343,7 +343,8 @@ TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
     spec.height = 16;
     for (const tune::TunedKernel* k : tune::tuned_kernels()) {
         std::vector<tune::Config> seen;
-        const tune::TuneResult r = tune::tune_kernel(*k, runner, scene, base, spec, [&](std::size_t n, const tune::Config& c, double) {
+        const tune::TuneResult r = tune::tune_kernel(*k, runner, {&scene, 1}, base, spec,
+                                                     [&](std::size_t n, const tune::Config& c, double, std::span<const double>) {
             EXPECT_EQ(n, seen.size() + 1);
             seen.push_back(c);
         });
@@ -354,11 +355,50 @@ TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
         EXPECT_EQ(r.fallback, k->default_config());
         EXPECT_TRUE(std::isfinite(r.fallback_cost) && r.fallback_cost > 0.0) << k->name;
         if (!r.found()) continue;
-        const tune::Entry e = tune::make_entry(r, test::device().info(), "spheres.json", "now");
+        const tune::Entry e = tune::make_entry(r, test::device().info(), "now");
         EXPECT_EQ(e.kernel, k->name);
         EXPECT_EQ(e.params, r.result.best);
         EXPECT_EQ(e.record.contains("image"), k->work == pipeline::Work::trace);
     }
+}
+
+// Over several scenes a configuration's cost is the geometric mean of its times on each, which the
+// report and the entry name.
+TEST(TuneTuner, SeveralScenesCostTheGeometricMeanOfTheirTimes) {
+    std::vector<tune::TuneScene> scenes;
+    for (const char* name : {"spheres", "cubes"}) {
+        const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
+        scenes.push_back({scene_at(file, file.time), name});
+    }
+    pipeline::Lane runner(test::device());
+    construct::BuildSettings base;
+    base.leaf_size = 0.5;
+    tune::TuneSpec spec;
+    spec.strategy = "random";
+    spec.budget = 2;
+    spec.warmup = 0;
+    spec.repeat = 1;
+    std::vector<double> progress_costs;
+    const tune::TuneResult r = tune::tune_kernel(*tune::find_kernel("evaluate"), runner, scenes, base, spec,
+                                                 [&](std::size_t, const tune::Config&, double cost, std::span<const double> ms) {
+                                                     EXPECT_EQ(ms.size(), 2u);
+                                                     progress_costs.push_back(cost);
+                                                 });
+    ASSERT_EQ(r.scene_ms.size(), r.result.evaluated.size());
+    ASSERT_EQ(progress_costs.size(), r.result.evaluated.size());
+    for (std::size_t i = 0; i < r.scene_ms.size(); ++i) {
+        const std::vector<double>& ms = r.scene_ms[i];
+        ASSERT_EQ(ms.size(), 2u);
+        EXPECT_TRUE(ms[0] > 0.0 && ms[1] > 0.0);
+        EXPECT_DOUBLE_EQ(r.result.evaluated[i].second, std::sqrt(ms[0] * ms[1]));
+        EXPECT_EQ(progress_costs[i], r.result.evaluated[i].second);
+    }
+    ASSERT_TRUE(r.found());
+    const tune::Entry e = tune::make_entry(r, test::device().info(), "now");
+    EXPECT_EQ(e.record.at("scenes"), nlohmann::json({"spheres", "cubes"}));
+    EXPECT_FALSE(e.record.contains("scene"));
+    EXPECT_NE(e.record.at("objective").get<std::string>().find("geometric mean"), std::string::npos);
+    EXPECT_THROW(tune::tune_kernel(*tune::find_kernel("evaluate"), runner, {}, base, spec), InputError);
 }
 
 // A bowl with its minimum at (chunk 64, group 128); group 512 cannot run.
