@@ -326,14 +326,14 @@ TEST(TuneTuning, EvaluationRegisterCapIsItsOwnParameter) {
     EXPECT_THROW(s.validate(gpu), SettingError);
 }
 
-// The tuner measures through the run loop on the test device: both kernels, every configuration
-// reported, the default measured.
-TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
-    const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/spheres.json");
-    const tune::TuneScene scene{scene_at(file, file.time), "spheres.json"};
-    pipeline::Lane runner(test::device());
-    construct::BuildSettings base;
-    base.leaf_size = 0.5;
+// A shipped scene to tune over.
+tune::TuneScene tune_scene(const std::string& name) {
+    const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
+    return {scene_at(file, file.time), name};
+}
+
+// Two random configurations, one capture each, a small traced image.
+tune::TuneSpec small_spec() {
     tune::TuneSpec spec;
     spec.strategy = "random";
     spec.budget = 2;
@@ -341,6 +341,17 @@ TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
     spec.repeat = 1;
     spec.width = 32;
     spec.height = 16;
+    return spec;
+}
+
+// The tuner measures through the run loop on the test device: both kernels, every configuration
+// reported, the default measured.
+TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
+    const tune::TuneScene scene = tune_scene("spheres");
+    pipeline::Lane runner(test::device());
+    construct::BuildSettings base;
+    base.leaf_size = 0.5;
+    const tune::TuneSpec spec = small_spec();
     for (const tune::TunedKernel* k : tune::tuned_kernels()) {
         std::vector<tune::Config> seen;
         const tune::TuneResult r = tune::tune_kernel(*k, runner, {&scene, 1}, base, spec,
@@ -365,19 +376,11 @@ TEST(TuneTuner, MeasuresEachKernelThroughTheRunner) {
 // Over several scenes a configuration's cost is the geometric mean of its times on each, which the
 // report and the entry name.
 TEST(TuneTuner, SeveralScenesCostTheGeometricMeanOfTheirTimes) {
-    std::vector<tune::TuneScene> scenes;
-    for (const char* name : {"spheres", "cubes"}) {
-        const Scene file = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
-        scenes.push_back({scene_at(file, file.time), name});
-    }
+    const std::vector<tune::TuneScene> scenes{tune_scene("spheres"), tune_scene("cubes")};
     pipeline::Lane runner(test::device());
     construct::BuildSettings base;
     base.leaf_size = 0.5;
-    tune::TuneSpec spec;
-    spec.strategy = "random";
-    spec.budget = 2;
-    spec.warmup = 0;
-    spec.repeat = 1;
+    const tune::TuneSpec spec = small_spec();
     std::vector<double> progress_costs;
     const tune::TuneResult r = tune::tune_kernel(*tune::find_kernel("evaluate"), runner, scenes, base, spec,
                                                  [&](std::size_t, const tune::Config&, double cost, std::span<const double> ms) {
