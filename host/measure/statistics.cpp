@@ -108,6 +108,7 @@ double stage_median(const std::vector<StageStats>& stages, Stage stage) {
 
 std::vector<KernelRow> kernel_rows(const std::vector<Capture>& captures, const ocl::DeviceInfo& device) {
     std::map<std::string, KernelRow> rows;
+    std::map<std::string, std::map<int, LevelRow>> levels;
     double all_ms = 0.0;
     for (const Capture& c : captures)
         for (const Launch& l : c) {
@@ -125,9 +126,17 @@ std::vector<KernelRow> kernel_rows(const std::vector<Capture>& captures, const o
             r.max_ms = std::max(r.max_ms, l.device_ms);
             if (l.work_items() > r.largest.work_items()) r.largest = l;
             all_ms += l.device_ms;
+            if (l.level >= 0) {
+                LevelRow& at = levels[l.kernel][l.level];
+                at.level = l.level;
+                ++at.launches;
+                at.total_ms += l.device_ms;
+                at.max_ms = std::max(at.max_ms, l.device_ms);
+            }
         }
     std::vector<KernelRow> out;
     for (auto& [name, r] : rows) {
+        for (const auto& [level, row] : levels[name]) r.levels.push_back(row);
         r.mean_ms = r.total_ms / static_cast<double>(r.launches);
         r.share = all_ms > 0.0 ? r.total_ms / all_ms : 0.0;
         r.occupancy = occupancy(device, r.largest.attributes, r.largest.group_size(), r.largest.groups());
@@ -158,13 +167,21 @@ std::string kernel_table_text(const std::vector<KernelRow>& rows) {
                          r.largest.attributes.local_mem_bytes, known(r.largest.attributes.registers),
                          known(o.groups_per_cu_by_local), o.theoretical ? fmt::format("{:.1f}%", 100.0 * *o.theoretical) : "unknown",
                          known(o.waves, "{:.2f}"));
+        if (r.levels.size() > 1)
+            for (const LevelRow& l : r.levels)
+                s += fmt::format("    {:<31} {:>8} {:>10.3f} {:>6} {:>9.4f} {:>9} {:>9.4f}\n", fmt::format("level {}", l.level),
+                                 l.launches, l.total_ms, "", l.total_ms / static_cast<double>(l.launches), "", l.max_ms);
     }
     return s;
 }
 
 nlohmann::json to_json(const std::vector<KernelRow>& rows) {
     nlohmann::json out = nlohmann::json::array();
-    for (const KernelRow& r : rows)
+    for (const KernelRow& r : rows) {
+        nlohmann::json levels = nlohmann::json::array();
+        for (const LevelRow& l : r.levels)
+            levels.push_back({{"level", l.level}, {"launches", l.launches}, {"total_ms", l.total_ms},
+                              {"mean_ms", l.total_ms / static_cast<double>(l.launches)}, {"max_ms", l.max_ms}});
         out.push_back({{"kernel", r.kernel},
                        {"stages", r.stages},
                        {"launches", r.launches},
@@ -176,7 +193,9 @@ nlohmann::json to_json(const std::vector<KernelRow>& rows) {
                        {"largest_launch", {{"global", r.largest.global}, {"group_size", r.largest.group_size()},
                                            {"groups", r.largest.groups()}}},
                        {"attributes", to_json(r.largest.attributes)},
-                       {"occupancy", to_json(r.occupancy)}});
+                       {"occupancy", to_json(r.occupancy)},
+                       {"levels", levels}});
+    }
     return out;
 }
 

@@ -46,6 +46,13 @@ std::string stage_table_text(const std::vector<StageStats>& stages, bool identic
 // The median of a stage's time; 0 when the stage is absent.
 double stage_median(const std::vector<StageStats>& stages, Stage stage);
 
+// A kernel's launches at one construction level.
+struct LevelRow {
+    int level = 0;
+    std::size_t launches = 0;
+    double total_ms = 0.0, max_ms = 0.0;
+};
+
 struct KernelRow {
     std::string kernel;
     std::string stages;  // the stages that launched it, comma-separated
@@ -53,8 +60,10 @@ struct KernelRow {
     double total_ms = 0.0, share = 0.0, mean_ms = 0.0, min_ms = 0.0, max_ms = 0.0;
     Launch largest;  // the launch with the most work-items
     Occupancy occupancy;
+    std::vector<LevelRow> levels;  // per level it ran at, ascending (launches of no level are not in it)
 };
-// Over every launch of every capture; sorted by total time, largest first.
+// Over every launch of every capture; sorted by total time, largest first. The text gives a line
+// per level under a kernel that ran at more than one.
 std::vector<KernelRow> kernel_rows(const std::vector<Capture>& captures, const ocl::DeviceInfo& device);
 std::string kernel_table_text(const std::vector<KernelRow>& rows);
 nlohmann::json to_json(const std::vector<KernelRow>& rows);

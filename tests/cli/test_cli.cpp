@@ -133,6 +133,19 @@ TEST(Cli, RenderWritesPicturesAndAccuracy) {
     EXPECT_EQ(j["devices"][0]["captures"]["warmup"], 1);
     bool evaluate_row = false;
     for (const auto& k : j["devices"][0]["kernels"]) {
+        if (k["kernel"] == "brick_count") {  // it runs at every level: a row per level, adding up to the kernel's
+            int launches = 0, last = -1;
+            double total = 0.0;
+            for (const auto& l : k["levels"]) {
+                EXPECT_GT(l["level"].get<int>(), last);
+                last = l["level"].get<int>();
+                launches += l["launches"].get<int>();
+                total += l["total_ms"].get<double>();
+            }
+            EXPECT_GT(k["levels"].size(), 1u);
+            EXPECT_EQ(launches, k["launches"].get<int>());
+            EXPECT_NEAR(total, k["total_ms"].get<double>(), 1e-9);
+        }
         if (k["kernel"] != "brick_evaluate") continue;
         evaluate_row = true;
         EXPECT_EQ(k["launches"], 2);
