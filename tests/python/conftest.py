@@ -46,9 +46,12 @@ def cli_json(tmp_path, *args):
 
 
 def keys(value):
-    """The shape of a report: every dict's keys, recursively (lists element by element)."""
+    """The shape of a report: every dict's keys, recursively (lists element by element; kernel rows,
+    which come sorted by their time, in the kernels' order)."""
     if isinstance(value, dict):
         return {k: keys(v) for k, v in value.items()}
     if isinstance(value, list):
+        if all(isinstance(v, dict) and "kernel" in v for v in value):
+            value = sorted(value, key=lambda v: v["kernel"])
         return [keys(v) for v in value]
     return None
