@@ -16,7 +16,10 @@
  * A child kept that holds no surface keeps none of its own children at the next level's test, so
  * the leaves are the same.
  * The parent's edits are staged through __local memory in chunks of chunk_size, with the terms of
- * their excess and their combine as data (sdf_fold_params: the fold has no branch per edit). Where
+ * their excess and their combine as data (sdf_fold_params: the fold has no branch per edit), except
+ * with one lane (GPUs) at a level that is not wide and one work-item per child: there a sphere or
+ * capsule edit carries its radial offset instead, and one that cannot change the child's running
+ * value is skipped (on an H100 sculpt_dense's count 2.33 -> 2.23 ms, rubble's 0.325 -> 0.303). Where
  * a level has few parents (long lists, few work-groups: bound by latency), the work-group has
  * `parts` work-items per child: they compute the edits' values at the child's centre (which do not
  * depend on the fold) in turn into __local values, and the first folds them in list order, so the
@@ -43,8 +46,16 @@ inline void stage_edits(__global const SdfPrepared* edits, __global const uint* 
     for (uint j = lid; j < n; j += wg) {
         const SdfPrepared e = edits[list[j]];
         chunk[j] = e;
-        terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
         folds[j] = sdf_fold_params(&e);
+#if SDF_LANES == 1
+        if (!(saturation > clamp_c)) { /* not wide: no excess; terms[j].x is the radial offset (below) or -1 */
+            const uint prim = e.kind & 0xffu, op = (e.kind >> 8) & 0xffu;
+            const int radial = (prim == SDF_PRIM_SPHERE || prim == SDF_PRIM_CAPSULE) && (op == SDF_OP_ADD || op == SDF_OP_SUBTRACT);
+            terms[j] = (float4)(radial ? sdf_radial_offset(&e, prim, saturation) : -1.0f, 0.0f, 0.0f, 0.0f);
+            continue;
+        }
+#endif
+        terms[j] = sdf_excess_terms(&e, clamp_c, saturation, threshold, magnitude);
     }
 }
 
@@ -126,7 +137,18 @@ __kernel void brick_count(__global const SdfPrepared* edits, __global const floa
                     threshold, magnitude);
         barrier(CLK_LOCAL_MEM_FENCE);
 #if SDF_LANES == 1
-        if (parts == 1u) {
+        if (parts == 1u && !wide) {
+            /* A sphere or capsule edit whose surface lies beyond the running value's reach cannot
+             * change it and is not folded (sdf_fold_radial, as in brick_evaluate: the same bits). */
+            for (uint j = 0; j < n; ++j) {
+                const SdfPrepared e = chunk[j];
+                const float offset = terms[j].x;
+                if (offset >= 0.0f)
+                    field = sdf_fold_radial(&e, e.kind & 0xffu, (e.kind >> 8) & 0xffu, 0, field, p.x, p.y, p.z, saturation, offset);
+                else
+                    fold_step(&field, &excess, terms[j], folds[j], sdf_prepared_value(&e, meshes, p), 0, saturation);
+            }
+        } else if (parts == 1u) {
             /* Unrolled, the values overlap. */
 #pragma unroll 4
             for (uint j = 0; j < n; ++j) {
