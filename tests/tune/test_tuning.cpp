@@ -131,7 +131,8 @@ TEST(TuneTuning, BuiltinLayerIsFoundByDeviceNameThenVendor) {
     const tune::TuningDb db;  // an empty file over the compiled-in layer
     const tune::Lookup h100 = db.find(kH100, "999.99", kNvidia, tune::kEvaluateKernel);
     EXPECT_EQ(h100.source, tune::Source::builtin_device) << "the device name matches whatever the driver";
-    EXPECT_EQ(h100.params, (tune::Config{{"chunk", 16}, {"group", 64}}));
+    EXPECT_EQ(h100.params, (tune::Config{{"chunk", 32}, {"group", 64}, {"registers", 56}}));
+    EXPECT_EQ(h100.entry->record.at("scenes").size(), 3u) << "tuned over three scenes";
     ASSERT_NE(h100.entry, nullptr);
     EXPECT_EQ(h100.entry->driver, "580.159.04");
     EXPECT_EQ(db.find(kH100, "580.159.04", kNvidia, tune::kTraceKernel).params,
@@ -179,13 +180,13 @@ TEST(TuneTuning, ApplyReportsTheBuiltinLayerAndTuningOffIgnoresIt) {
     construct::BuildSettings s;
     render::TraceSettings t;
     tune::Applied a = tune::apply_tuning(&db, h100, {}, s, &t);
-    EXPECT_EQ(s.chunk, 16);
+    EXPECT_EQ(s.chunk, 32);
     EXPECT_EQ(s.eval_group, 64);
     EXPECT_EQ(t.group_x, 4);
     EXPECT_EQ(a.record[tune::kEvaluateKernel]["source"], "builtin device");
     EXPECT_EQ(a.record[tune::kEvaluateKernel]["layer"], "builtin");
     EXPECT_TRUE(a.record[tune::kTraceKernel]["entry"].contains("measured"));
-    EXPECT_NE(a.text.find("brick_evaluate chunk 16 group 64 (builtin device)"), std::string::npos) << a.text;
+    EXPECT_NE(a.text.find("brick_evaluate chunk 32 group 64"), std::string::npos) << a.text;
     EXPECT_NE(a.text.find("trace_primary 4x8 (builtin device)"), std::string::npos) << a.text;
 
     s = {};
@@ -205,8 +206,9 @@ TEST(TuneKernels, EveryBuiltinEntryIsValidForItsDeclaration) {
         ASSERT_NE(k, nullptr) << e.kernel;
         EXPECT_TRUE(k->in_space(e.params)) << e.device << " " << e.kernel;
         EXPECT_EQ(k->refuses(e.params), "") << e.device << " " << e.kernel;
-        for (const char* field : {"time_ms", "default_ms", "tuned_at", "measured", "scene", "brick_size"})
+        for (const char* field : {"time_ms", "default_ms", "tuned_at", "measured", "brick_size"})
             EXPECT_TRUE(e.record.contains(field)) << e.device << " " << e.kernel << ": " << field;
+        EXPECT_NE(e.record.contains("scene"), e.record.contains("scenes")) << e.device << " " << e.kernel;
         EXPECT_TRUE(k->in_space(e.record.at("default_params").get<tune::Config>())) << e.device << " " << e.kernel;
     }
 }
