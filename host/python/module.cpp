@@ -819,10 +819,14 @@ public:
 
     py::object tune(const py::object& scene_or_list, const py::object& progress, bool save, const py::kwargs& kwargs) {
         std::vector<PyScene> scenes;
-        if (py::isinstance<py::list>(scene_or_list) || py::isinstance<py::tuple>(scene_or_list))
-            scenes = scene_or_list.cast<std::vector<PyScene>>();
-        else
-            scenes.push_back(scene_or_list.cast<PyScene>());
+        try {
+            if (py::isinstance<py::list>(scene_or_list) || py::isinstance<py::tuple>(scene_or_list))
+                scenes = scene_or_list.cast<std::vector<PyScene>>();
+            else
+                scenes.push_back(scene_or_list.cast<PyScene>());
+        } catch (const py::cast_error&) {
+            throw SettingError("scenes", "scenes must be a Scene or a list of Scenes");
+        }
         if (scenes.empty()) throw SettingError("scenes", "tune needs at least one scene");
         Kwargs k(kwargs, "tune");
         tune::TuneSpec spec;

@@ -61,3 +61,5 @@ def test_tune_over_several_scenes_reports_each_ones_time(ctx, spheres):
         assert measured["ms"] == pytest.approx((first * second) ** 0.5)
     with pytest.raises(sdfbrick.InputError, match="^scenes: "):
         ctx.tune([], **SMALL)
+    with pytest.raises(sdfbrick.InputError, match="^scenes: "):
+        ctx.tune([spheres, "cubes.json"], **SMALL)
