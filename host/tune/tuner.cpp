@@ -188,11 +188,15 @@ nlohmann::json tune_device(pipeline::Lane& runner, std::span<const TuneScene> sc
     const std::string over = scenes.size() > 1 ? fmt::format(", geometric mean over {} scenes", scenes.size()) : "";
     for (const TunedKernel* k : kernels) {
         if (say) {
-            if (k->work == pipeline::Work::trace)
-                say(fmt::format("  {} ({}x{} {}, {}{}):\n", k->name, spec.width, spec.height,
-                                render::to_string(spec.method), k->objective_text, over));
-            else
-                say(fmt::format("  {} ({}{}):\n", k->name, k->objective_text, over));
+            const Space space = k->space(&info);
+            const std::size_t planned = strategy_from_string(spec.strategy, space, spec.budget) == Strategy::full
+                                            ? space.size()
+                                            : std::min(spec.budget, space.size());
+            const std::string what =
+                k->work == pipeline::Work::trace
+                    ? fmt::format("{}x{} {}, ", spec.width, spec.height, render::to_string(spec.method))
+                    : "";
+            say(fmt::format("  {} ({}{}{}), {} configurations:\n", k->name, what, k->objective_text, over, planned));
         }
         const TuneResult t = tune_kernel(*k, runner, scenes, settings, spec, measured);
         record(db, info, t, tuned_at, say, report);
