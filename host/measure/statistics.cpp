@@ -136,7 +136,10 @@ std::vector<KernelRow> kernel_rows(const std::vector<Capture>& captures, const o
         }
     std::vector<KernelRow> out;
     for (auto& [name, r] : rows) {
-        for (const auto& [level, row] : levels[name]) r.levels.push_back(row);
+        for (auto& [level, row] : levels[name]) {
+            row.mean_ms = row.total_ms / static_cast<double>(row.launches);
+            r.levels.push_back(row);
+        }
         r.mean_ms = r.total_ms / static_cast<double>(r.launches);
         r.share = all_ms > 0.0 ? r.total_ms / all_ms : 0.0;
         r.occupancy = occupancy(device, r.largest.attributes, r.largest.group_size(), r.largest.groups());
@@ -170,7 +173,7 @@ std::string kernel_table_text(const std::vector<KernelRow>& rows) {
         if (r.levels.size() > 1)
             for (const LevelRow& l : r.levels)
                 s += fmt::format("    {:<31} {:>8} {:>10.3f} {:>6} {:>9.4f} {:>9} {:>9.4f}\n", fmt::format("level {}", l.level),
-                                 l.launches, l.total_ms, "", l.total_ms / static_cast<double>(l.launches), "", l.max_ms);
+                                 l.launches, l.total_ms, "", l.mean_ms, "", l.max_ms);
     }
     return s;
 }
@@ -181,7 +184,7 @@ nlohmann::json to_json(const std::vector<KernelRow>& rows) {
         nlohmann::json levels = nlohmann::json::array();
         for (const LevelRow& l : r.levels)
             levels.push_back({{"level", l.level}, {"launches", l.launches}, {"total_ms", l.total_ms},
-                              {"mean_ms", l.total_ms / static_cast<double>(l.launches)}, {"max_ms", l.max_ms}});
+                              {"mean_ms", l.mean_ms}, {"max_ms", l.max_ms}});
         out.push_back({{"kernel", r.kernel},
                        {"stages", r.stages},
                        {"launches", r.launches},

@@ -50,7 +50,7 @@ double stage_median(const std::vector<StageStats>& stages, Stage stage);
 struct LevelRow {
     int level = 0;
     std::size_t launches = 0;
-    double total_ms = 0.0, max_ms = 0.0;
+    double total_ms = 0.0, mean_ms = 0.0, max_ms = 0.0;
 };
 
 struct KernelRow {

@@ -44,9 +44,13 @@ Strategy strategy_from_string(std::string_view s, const Space& space, std::size_
     throw SettingError("strategy", fmt::format("strategy must be auto, full, random or anneal, got \"{}\"", s));
 }
 
+std::size_t search_limit(const Space& space, Strategy strategy, std::size_t budget) {
+    return strategy == Strategy::full ? space.size() : std::min(budget, space.size());
+}
+
 SearchResult search(const Space& space, Strategy strategy, std::size_t budget, std::uint64_t seed,
                     const std::function<double(const Config&)>& cost) {
-    const std::size_t n = space.size();
+    const std::size_t n = space.size(), limit = search_limit(space, strategy, budget);
     SearchResult r;
     r.best_cost = std::numeric_limits<double>::infinity();
     std::map<std::size_t, double> seen;
@@ -65,12 +69,12 @@ SearchResult search(const Space& space, Strategy strategy, std::size_t budget, s
     if (n == 0) return r;
     std::mt19937_64 rng(seed);
     if (strategy == Strategy::full) {
-        for (std::size_t i = 0; i < n; ++i) measure(i);
+        for (std::size_t i = 0; i < limit; ++i) measure(i);
     } else if (strategy == Strategy::random) {
         std::vector<std::size_t> order(n);
         std::iota(order.begin(), order.end(), 0);
         std::shuffle(order.begin(), order.end(), rng);
-        for (std::size_t k = 0; k < std::min(budget, n); ++k) measure(order[k]);
+        for (std::size_t k = 0; k < limit; ++k) measure(order[k]);
     } else {
         // Annealing over the grid: a neighbour moves one dimension one step. Temperature falls
         // geometrically from 10% of the first cost to 0.1% over the budget.
@@ -79,7 +83,6 @@ SearchResult search(const Space& space, Strategy strategy, std::size_t budget, s
         std::size_t current = any(rng);
         double current_cost = measure(current);
         const double t0 = std::isfinite(current_cost) ? 0.1 * current_cost : 1.0;
-        const std::size_t limit = std::min(budget, n);
         for (std::size_t step = 0; seen.size() < limit && step < 20 * limit; ++step) {
             std::vector<std::size_t> radix;
             for (const auto& d : space.dims) radix.push_back(d.second.size());

@@ -33,8 +33,11 @@ struct SearchResult {
     std::vector<std::pair<Config, double>> evaluated;  // in the order measured
 };
 
-// Measures at most budget distinct configurations (full: all of them). seed makes random and anneal
-// repeatable.
+// The most configurations `search` measures: all of the space's for full, else at most the budget
+// (anneal may stop short of it).
+std::size_t search_limit(const Space& space, Strategy strategy, std::size_t budget);
+
+// Measures at most search_limit distinct configurations. seed makes random and anneal repeatable.
 SearchResult search(const Space& space, Strategy strategy, std::size_t budget, std::uint64_t seed,
                     const std::function<double(const Config&)>& cost);
 

@@ -189,9 +189,8 @@ nlohmann::json tune_device(pipeline::Lane& runner, std::span<const TuneScene> sc
     for (const TunedKernel* k : kernels) {
         if (say) {
             const Space space = k->space(&info);
-            const std::size_t planned = strategy_from_string(spec.strategy, space, spec.budget) == Strategy::full
-                                            ? space.size()
-                                            : std::min(spec.budget, space.size());
+            const std::size_t planned =
+                search_limit(space, strategy_from_string(spec.strategy, space, spec.budget), spec.budget);
             const std::string what =
                 k->work == pipeline::Work::trace
                     ? fmt::format("{}x{} {}, ", spec.width, spec.height, render::to_string(spec.method))
