@@ -64,7 +64,7 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, int unit,
     float dx = x, dy = y, dz = z;
     sdf_edit_frame_of(e, !unit, &dx, &dy, &dz); /* as sdf_edit_value_of */
     if (prim == SDF_PRIM_CAPSULE) dy = dy - clamp(dy, -e->prm[0], e->prm[0]);
-    const float d2 = dx * dx + dy * dy + dz * dz; /* sdf_norm3's sum */
+    const float d2 = sdf_squares3(dx, dy, dz); /* sdf_norm3's sum */
     const float bound = sdf_radial_bound(op, field, offset);
     if ((unit ? d2 : d2 * e->out_scale * e->out_scale) >= bound * bound) return sdf_radial_kept(e->blend, op, field);
     const float l = sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0]);
@@ -111,10 +111,9 @@ inline float4 sdf_fold_params(const SdfPrepared* e) {
 inline sdf_real sdf_fold_select(float4 f, sdf_real field, sdf_real v) {
     const sdf_real b = f.x * v; /* exact: v or -v */
     const sdf_real w = fmax(f.y - fabs(field - b), 0.0f);
-    const sdf_real t = w * w * f.z;
     const sdf_real lo = fmin(field, b), hi = fmax(field, b);
     const int smooth = f.y > 0.0f;
-    const sdf_real joined = smooth ? lo - t : lo, cut = smooth ? hi + t : hi;
+    const sdf_real joined = smooth ? sdf_smooth_below(lo, w, f.z) : lo, cut = smooth ? sdf_smooth_above(hi, w, f.z) : hi;
     return f.w == 1.0f ? joined : f.w == 2.0f ? cut : field;
 }
 

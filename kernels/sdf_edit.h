@@ -1,9 +1,10 @@
 /* sdf_edit.h: evaluation of edits and edit lists, shared by every kernel that reads the field.
  *
- * Determinism (docs/design.md#determinism): only + - * / sqrt fabs fmin fmax floor, with FP_CONTRACT OFF
- * (the program builder puts the pragma first) and correctly rounded divide/sqrt where the device
- * supports it. No built-in dot/length/normalize/distance/mix: their rounding and fusing are not
- * specified, so the sums are written out here in a fixed order.
+ * Determinism (docs/design.md#determinism): only + - * / sqrt fma fabs fmin fmax floor, with FP_CONTRACT
+ * OFF (the program builder puts the pragma first) and correctly rounded divide/sqrt where the device
+ * supports it. fma is written out where it is meant (OpenCL C requires it correctly rounded, so every
+ * device gives its bits); the compiler fuses nothing. No built-in dot/length/normalize/distance/mix:
+ * their rounding and fusing are not specified, so the sums are written out here in a fixed order.
  * The formulas are documented in docs/scene-format.md; host/reference/ evaluates the same
  * definitions independently in double precision.
  *
@@ -88,19 +89,24 @@ inline float sdf_len3(float3 a) { return sqrt(sdf_dot3(a, a)); }
 inline float sdf_max3(float3 a) { return fmax(fmax(a.x, a.y), a.z); }
 inline float sdf_min3(float3 a) { return fmin(fmin(a.x, a.y), a.z); }
 
-/* The same sums over lanes. */
-inline sdf_real sdf_len2(sdf_real x, sdf_real y) { return sqrt(x * x + y * y); }
-inline sdf_real sdf_norm3(sdf_real x, sdf_real y, sdf_real z) { return sqrt(x * x + y * y + z * z); }
+/* Sums of squares over lanes as chains of fma (one rounding a term after the first: fewer operations
+ * than products and sums, and as exact or more). */
+inline sdf_real sdf_squares2(sdf_real x, sdf_real y) { return fma(y, y, x * x); }
+inline sdf_real sdf_squares3(sdf_real x, sdf_real y, sdf_real z) { return fma(z, z, fma(y, y, x * x)); }
+inline sdf_real sdf_len2(sdf_real x, sdf_real y) { return sqrt(sdf_squares2(x, y)); }
+inline sdf_real sdf_norm3(sdf_real x, sdf_real y, sdf_real z) { return sqrt(sdf_squares3(x, y, z)); }
 
 /* Rotate (x, y, z) in place by the conjugate of the unit quaternion q = (x, y, z, w):
- * t = 2 cross(u, v); v' = v + w t + cross(u, t), u = -q.xyz. */
+ * t = 2 cross(u, v); v' = v + w t + cross(u, t), u = -q.xyz. A cross product's a b - c d is
+ * fma(a, b, (-c) d), and v + w t is fma(w, t, v). */
 inline void sdf_rotate_inverse(const float q[4], sdf_real* x, sdf_real* y, sdf_real* z) {
-    const float ux = -q[0], uy = -q[1], uz = -q[2], w = q[3];
+    const sdf_real ux = SDF_SPLAT(-q[0]), uy = SDF_SPLAT(-q[1]), uz = SDF_SPLAT(-q[2]), w = SDF_SPLAT(q[3]);
+    const sdf_real nx = SDF_SPLAT(q[0]), ny = SDF_SPLAT(q[1]), nz = SDF_SPLAT(q[2]); /* -u */
     const sdf_real vx = *x, vy = *y, vz = *z;
-    const sdf_real tx = 2.0f * (uy * vz - uz * vy), ty = 2.0f * (uz * vx - ux * vz), tz = 2.0f * (ux * vy - uy * vx);
-    *x = vx + w * tx + (uy * tz - uz * ty);
-    *y = vy + w * ty + (uz * tx - ux * tz);
-    *z = vz + w * tz + (ux * ty - uy * tx);
+    const sdf_real tx = 2.0f * fma(uy, vz, nz * vy), ty = 2.0f * fma(uz, vx, nx * vz), tz = 2.0f * fma(ux, vy, ny * vx);
+    *x = fma(w, tx, vx) + fma(uy, tz, nz * ty);
+    *y = fma(w, ty, vy) + fma(uz, tx, nx * tz);
+    *z = fma(w, tz, vz) + fma(ux, ty, ny * tx);
 }
 
 inline sdf_real sdf_box(sdf_real x, sdf_real y, sdf_real z, float bx, float by, float bz) {
@@ -327,14 +333,18 @@ inline sdf_real sdf_edit_value(const SdfPrepared* e, __global const float* meshe
 }
 
 /* Compact-support quadratic smooth minimum / maximum: exactly min / max when |a - b| >= k
- * (then w = 0 and the smooth term is 0 * 0 * q = 0). */
+ * (then w = 0 and the smooth term is 0 * 0 * q = 0). The term w^2 q is taken from the minimum or
+ * added to the maximum in one rounding (sdf_smooth_below, sdf_smooth_above), which gives -0 and +0
+ * as a subtraction or addition of +0 does. */
+inline sdf_real sdf_smooth_below(sdf_real lo, sdf_real w, float q) { return fma(w * w, SDF_SPLAT(-q), lo); }
+inline sdf_real sdf_smooth_above(sdf_real hi, sdf_real w, float q) { return fma(w * w, SDF_SPLAT(q), hi); }
 inline sdf_real sdf_smooth_min(sdf_real a, sdf_real b, float k, float q) {
     const sdf_real w = fmax(k - fabs(a - b), 0.0f);
-    return fmin(a, b) - w * w * q;
+    return sdf_smooth_below(fmin(a, b), w, q);
 }
 inline sdf_real sdf_smooth_max(sdf_real a, sdf_real b, float k, float q) {
     const sdf_real w = fmax(k - fabs(a - b), 0.0f);
-    return fmax(a, b) + w * w * q;
+    return sdf_smooth_above(fmax(a, b), w, q);
 }
 
 /* Combine the field so far with one prepared edit's value v, the edit's operation being op (= its
