@@ -85,23 +85,15 @@ inline void radial_values(const SdfPrepared* e, uint prim, float clamp_c, float4
                   sdf_radial_offset(e, prim, clamp_c));
 }
 
-/* The work-item's largest F (an add, op) or smallest (a subtract), which bounds every sample's. */
-inline float item_extreme(uint op, const sdf_real* field, uint active) {
-    sdf_real extreme = SDF_SPLAT(op == SDF_OP_ADD ? -INFINITY : INFINITY);
-    for (uint s = 0; s < PER_ITEM; ++s)
-        if (s < active) extreme = op == SDF_OP_ADD ? fmax(extreme, field[s]) : fmin(extreme, field[s]);
-    return op == SDF_OP_ADD ? sdf_lanes_max(extreme) : sdf_lanes_min(extreme);
-}
-
 /* Whether every sample of the work-item passes sdf_fold_radial's skip test for the sphere or capsule
- * edit whose record is (a, b), bound being that test's bound at item_extreme. The samples lie within
- * item.w of item.xyz, so in the edit's frame they are at least (|item.xyz - t| - item.w) / scale from
- * its centre, and from a capsule's segment at least that less its half length. The factor 1 + 2^-14
- * covers the rounding of both tests. */
+ * edit whose record is (a, b), bound being that test's bound at the item's extreme F (item_extreme).
+ * The samples lie within item.w of item.xyz, so in the edit's frame they are at least
+ * (|item.xyz - t| - item.w) / scale from its centre, and from a capsule's segment at least that less
+ * its half length. The factor 1 + 2^-14 covers the rounding of both tests. */
 inline int item_beyond(float4 a, float4 b, float4 item, float bound) {
     const float dx = item.x - a.x, dy = item.y - a.y, dz = item.z - a.z;
-    const float reach = ((item.w * b.x + b.y) * b.z + bound) * 1.00006103515625f;
-    return (dx * dx + dy * dy + dz * dz) * a.w * a.w >= reach * reach;
+    const float reach = fma(fma(item.w, b.x, b.y), b.z, bound) * 1.00006103515625f;
+    return fma(dz, dz, fma(dy, dy, dx * dx)) * a.w * a.w >= reach * reach;
 }
 
 /* With CPU lanes (SKIP_RECORDS) the work-group writes each staged edit's record once into __local
@@ -115,11 +107,6 @@ inline void radial_record(const SdfPrepared* e, float clamp_c, __local float4* r
     if (prim == SDF_PRIM_SPHERE || prim == SDF_PRIM_CAPSULE) radial_values(e, prim, clamp_c, &a, &b);
     r[0] = a;
     r[1] = b;
-}
-inline int radial_skips(__local const float4* r, uint op, float4 item, const sdf_real* field, uint active) {
-    const float most = item_extreme(op, field, active);
-    const float4 a = r[0], b = r[1];
-    return item_beyond(a, b, item, sdf_radial_bound(op, most, b.w));
 }
 
 /* Where the test passed, every value keeps what the fold gives there (sdf_radial_kept: a smooth
@@ -143,6 +130,33 @@ inline void radial_kept_values(uint op, float blend, sdf_real* field, uint activ
 #define HAS_PRIM(P) (((EVAL_PRIMS) >> (P)) & 1u)
 #define HAS_OP(O) (((EVAL_OPS) >> (O)) & 1u)
 #define HAS_OTHER_OP (((EVAL_OPS) & ~((1u << SDF_OP_ADD) | (1u << SDF_OP_SUBTRACT))) != 0u)
+
+/* The work-item's largest F and smallest (x, y), which bound every sample's for an add's skip test
+ * and a subtract's. An edit the test skips leaves them as they were (sdf_radial_kept changes at most
+ * a zero's sign), so they are computed when a test needs them and an edit folded since they were
+ * last (*stale): the same bounds, for fewer operations. */
+typedef struct {
+    float2 f;
+    int stale;
+} Extremes;
+inline float item_extreme(Extremes* x, uint op, const sdf_real* field, uint active) {
+    if (x->stale) {
+        sdf_real hi = SDF_SPLAT(-INFINITY), lo = SDF_SPLAT(INFINITY);
+        for (uint s = 0; s < PER_ITEM; ++s)
+            if (s < active) {
+                if (HAS_OP(SDF_OP_ADD)) hi = fmax(hi, field[s]);
+                if (HAS_OP(SDF_OP_SUBTRACT)) lo = fmin(lo, field[s]);
+            }
+        x->f = (float2)(HAS_OP(SDF_OP_ADD) ? sdf_lanes_max(hi) : 0.0f, HAS_OP(SDF_OP_SUBTRACT) ? sdf_lanes_min(lo) : 0.0f);
+        x->stale = 0;
+    }
+    return op == SDF_OP_ADD ? x->f.x : x->f.y;
+}
+inline int radial_skips(__local const float4* r, uint op, float4 item, Extremes* x, const sdf_real* field, uint active) {
+    const float4 a = r[0], b = r[1];
+    return item_beyond(a, b, item, sdf_radial_bound(op, item_extreme(x, op, field, active), b.w));
+}
+
 #if SKIP_RECORDS && !(SKIP_FAR && SDF_LANES > 1)
 #error "skip records serve the work-item test in lanes only"
 #endif
@@ -181,7 +195,7 @@ inline void radial_kept_values(uint op, float blend, sdf_real* field, uint activ
     {                                                                                                      \
         float4 a, b;                                                                                       \
         radial_values(e, PRIM, clamp_c, &a, &b);                                                           \
-        if (!item_beyond(a, b, item, sdf_radial_bound(OP, item_extreme(OP, field, active), b.w))) {       \
+        if (!item_beyond(a, b, item, sdf_radial_bound(OP, item_extreme(extremes, OP, field, active), b.w))) { \
             if (unit) {                                                                                    \
                 FOLD_RADIAL_VALUES(PRIM, OP, 1);                                                           \
             } else {                                                                                       \
@@ -189,6 +203,7 @@ inline void radial_kept_values(uint op, float blend, sdf_real* field, uint activ
             }                                                                                              \
         } else {                                                                                           \
             radial_kept_values(OP, e->blend, field, active);                                               \
+            folded = 0;                                                                                    \
         }                                                                                                  \
     }
 #define FOLD_RADIAL(PRIM)                                                                                  \
@@ -200,9 +215,12 @@ inline void radial_kept_values(uint op, float blend, sdf_real* field, uint activ
 #else
 #define FOLD_RADIAL(PRIM) FOLD_PRIM(PRIM) /* in lanes, or SKIP_FAR 0: every sample is evaluated */
 #endif
+/* Folds e; marks the extremes stale unless the work-item's skip test kept every value. */
 inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_real* field, const sdf_real* px,
-                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float4 item) {
+                        const sdf_real* py, const sdf_real* pz, float clamp_c, uint active, float4 item,
+                        Extremes* extremes) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
+    int folded = 1;
 #if EVAL_HOIST
     const int unit = sdf_unit_scale(e);
     switch (prim) {
@@ -220,6 +238,7 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
 #else
     FOLD_VALUES(prim, op);
 #endif
+    if (folded) extremes->stale = 1;
 }
 
 __kernel void brick_evaluate(__global const SdfPrepared* edits, __global const float* meshes, __global const uint* edit_indices,
@@ -262,6 +281,7 @@ __kernel void brick_evaluate(__global const SdfPrepared* edits, __global const f
 #else
     const float4 item = (float4)(0.0f); /* unused */
 #endif
+    Extremes extremes = {(float2)(0.0f), 1};
     for (uint base = 0; base < b.edit_count; base += chunk_size) {
         const uint n = min(chunk_size, b.edit_count - base);
         barrier(CLK_LOCAL_MEM_FENCE);
@@ -280,13 +300,13 @@ __kernel void brick_evaluate(__global const SdfPrepared* edits, __global const f
             if (((prim == SDF_PRIM_SPHERE && HAS_PRIM(SDF_PRIM_SPHERE)) ||
                  (prim == SDF_PRIM_CAPSULE && HAS_PRIM(SDF_PRIM_CAPSULE))) &&
                 ((op == SDF_OP_ADD && HAS_OP(SDF_OP_ADD)) || (op == SDF_OP_SUBTRACT && HAS_OP(SDF_OP_SUBTRACT))) &&
-                radial_skips(skips + 2 * j, op, item, field, active)) {
+                radial_skips(skips + 2 * j, op, item, &extremes, field, active)) {
                 radial_kept_values(op, chunk[j].blend, field, active);
                 continue;
             }
 #endif
             const SdfPrepared e = chunk[j];
-            fold_values(&e, meshes, field, px, py, pz, clamp_c, active, item);
+            fold_values(&e, meshes, field, px, py, pz, clamp_c, active, item, &extremes);
         }
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;
