@@ -157,6 +157,24 @@ inline int radial_skips(__local const float4* r, uint op, float4 item, Extremes*
     return item_beyond(a, b, item, sdf_radial_bound(op, item_extreme(x, op, field, active), b.w));
 }
 
+#if SDF_LANES == 1
+/* Whether an add or subtract edit e of another primitive than a sphere or capsule cannot change any
+ * of the work-item's values: its value v at the item's centre, less the item's radius (the field is
+ * 1-Lipschitz, as the cull assumes) and a margin for the rounding of v there and at the samples
+ * (sdf_value_margin), is above F + k for every sample (an add) or above k - F (a subtract). Then
+ * |F - v| > k leaves no smooth term, and min(F, v) or max(F, -v) returns F (strictly: the margin is
+ * above 0), which sdf_radial_kept gives. One evaluation a work-item instead of one a value; in CPU
+ * lanes a work-item's samples spread too far for the test to pass often, and it is not compiled. */
+inline int item_far(const SdfPrepared* e, uint prim, uint op, __global const float* meshes, float4 item, Extremes* x,
+                    const float* field, uint active) {
+    if (!((op == SDF_OP_ADD && HAS_OP(SDF_OP_ADD)) || (op == SDF_OP_SUBTRACT && HAS_OP(SDF_OP_SUBTRACT)))) return 0;
+    const float v = sdf_edit_value_of(e, prim, meshes, item.x, item.y, item.z);
+    const float margin = sdf_value_margin(e, fmax(fmax(fabs(item.x), fabs(item.y)), fabs(item.z)) + item.w);
+    const float most = item_extreme(x, op, field, active);
+    return v - item.w - margin > (op == SDF_OP_ADD ? most : -most) + e->blend;
+}
+#endif
+
 #if SKIP_RECORDS && !(SKIP_FAR && SDF_LANES > 1)
 #error "skip records serve the work-item test in lanes only"
 #endif
@@ -221,6 +239,12 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
                         Extremes* extremes) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
     int folded = 1;
+#if SKIP_FAR && SDF_LANES == 1
+    if (prim != SDF_PRIM_SPHERE && prim != SDF_PRIM_CAPSULE && item_far(e, prim, op, meshes, item, extremes, field, active)) {
+        radial_kept_values(op, e->blend, field, active);
+        return;
+    }
+#endif
 #if EVAL_HOIST
     const int unit = sdf_unit_scale(e);
     switch (prim) {

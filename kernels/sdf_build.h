@@ -72,6 +72,15 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, int unit,
 }
 #endif
 
+/* A margin for the rounding of a prepared edit's value at points whose coordinates are at most
+ * magnitude in size, as in sdf_reach_limit: relative to the coordinates and the edit's size. */
+inline float sdf_value_margin(const SdfPrepared* e, float magnitude) {
+    const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
+                        fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
+                            e->inv_scale;
+    return (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+}
+
 /* How far the fold saturated at [-S, S] (S > C) may sit from F_C, for smooth edit e whose value at
  * the centre of a cell is v, over points within radius of that centre: k/4 when e's smooth zone can
  * meet the saturation level +-C there (an add or subtract blends with F = C where |v - C| < k, an
@@ -81,11 +90,7 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, int unit,
  * excess that do not depend on v; sdf_saturation_excess adds them up for one v. */
 inline float4 sdf_excess_terms(const SdfPrepared* e, float clamp_c, float saturation, float radius, float magnitude) {
     if (!(e->blend > 0.0f)) return (float4)(0.0f, -INFINITY, 0.0f, 0.0f);
-    /* The rounding of v, as in sdf_reach_limit: relative to the coordinates and the edit's size. */
-    const float reach = fmax(fmax(fabs(e->t[0]), fabs(e->t[1])), fabs(e->t[2])) +
-                        fmax(fmax(fabs(e->prm[0]), fabs(e->prm[1])), fmax(fabs(e->prm[2]), fabs(e->prm[3]))) /
-                            e->inv_scale;
-    const float margin = (magnitude + reach) * 6.103515625e-05f; /* 2^-14 */
+    const float margin = sdf_value_margin(e, magnitude);
     const uint op = (e->kind >> 8) & 0xffu;
     const float level = op == SDF_OP_INTERSECT ? -clamp_c : clamp_c;
     const float rounding = (saturation + e->blend) * 9.5367431640625e-07f; /* 2^-20 */

@@ -21,23 +21,25 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
                                               : static_cast<double>(in.edits_host.size());
     // The primitives and operations the edits use: the kernel compiles the folds of these alone (a
     // number past the masks' bits, never in a validated scene, keeps every fold). radial: a sphere
-    // or capsule add or subtract among them.
+    // or capsule add or subtract among them; add_or_subtract: an add or subtract of any primitive.
     cl_uint prims = 0, ops = 0;
-    bool radial = false;
+    bool radial = false, add_or_subtract = false;
     for (const SdfEdit& e : in.edits_host) {
         prims |= e.primitive < 32 ? 1u << e.primitive : ~0u;
         ops |= e.op < 32 ? 1u << e.op : ~0u;
-        radial = radial || ((e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) &&
-                            (e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT));
+        const bool skippable = e.op == SDF_OP_ADD || e.op == SDF_OP_SUBTRACT;
+        add_or_subtract = add_or_subtract || skippable;
+        radial = radial || ((e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) && skippable);
     }
     // Long lists branch once per edit (EVAL_HOIST), and CPU lanes always do (PoCL here,
     // docs/measurements/roof/pocl-hoist.txt: board's evaluation 31 -> 25 ms, ground_trees' 394 ->
     // 323, rain's 144-151 -> 127; same digests); only those skip far edits; the skip's code costs
-    // registers, so only a geometry with sphere or capsule adds or subtracts has it.
+    // registers, so only a geometry with edits it can skip has it: sphere or capsule adds or
+    // subtracts, or on one lane (GPUs) adds or subtracts of any primitive (the work-item's test).
     const bool hoist = lanes > 1 || mean_list >= BuildSettings::kLongList;
-    const bool skip_far = hoist && in.settings.skip_far && radial;
+    const bool skip_far = hoist && in.settings.skip_far && (radial || (add_or_subtract && lanes == 1));
     // The work-item's skip test reads records in local memory with CPU lanes (BuildSettings::skip_records).
-    const bool records = skip_far && BuildSettings::skip_records(static_cast<int>(lanes));
+    const bool records = skip_far && radial && BuildSettings::skip_records(static_cast<int>(lanes));
     const ocl::Program program = ocl::build_program(
         in.device, "brick_evaluate.cl",
         fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} "

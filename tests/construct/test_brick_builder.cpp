@@ -103,6 +103,28 @@ Geometry capsules_geometry() {
     return g;
 }
 
+// Every primitive but spheres, capsules and meshes, rotated and scaled, added and then carved by
+// smooth and hard subtractions within reach of each other (long lists): the work-item's skip test
+// for any primitive.
+Geometry assorted_geometry() {
+    static constexpr Primitive kinds[] = {Primitive::Box,      Primitive::RoundBox, Primitive::Torus, Primitive::Cylinder,
+                                          Primitive::Cone,     Primitive::Ellipsoid, Primitive::Menger};
+    Geometry g;
+    g.name = "assorted";
+    for (int i = 0; i < 42; ++i) {
+        const double a = 0.8 * i, r = 0.08 + 0.02 * (i % 3);
+        const glm::dvec3 at{0.45 * std::cos(a), 0.4 * std::sin(1.3 * a), 0.45 * std::sin(0.7 * a)};
+        const Primitive kind = kinds[i % 7];
+        const std::array<double, 4> params = kind == Primitive::Menger ? std::array<double, 4>{2 * r, 2, 0, 0}
+                                             : kind == Primitive::Torus ? std::array<double, 4>{1.5 * r, 0.5 * r, 0, 0}
+                                             : kind == Primitive::RoundBox ? std::array<double, 4>{r, 1.2 * r, 0.8 * r, 0.3 * r}
+                                                                          : std::array<double, 4>{r, 0.8 * r, 1.4 * r, 0};
+        g.edits.push_back(make_edit(kind, params, at, i < 30 ? Op::Add : Op::Subtract, i % 4 == 3 ? 0.0 : 0.15, a,
+                                    0.8 + 0.1 * (i % 5)));
+    }
+    return g;
+}
+
 Geometry shipped_geometry(const char* name) {
     const Scene s = load_scene(std::string(SDFBRICK_SOURCE_DIR) + "/scenes/" + name + ".json");
     return scene_at(s, s.time).geometries.at(0);
@@ -349,16 +371,17 @@ TEST(ConstructBuild, EveryLevelFollowsTheSurfaceSmoothBlends) {
     check_levels_follow_surface(drops_subset(48), settings(0.125));
 }
 
-// Skipping the points where a sphere or capsule edit cannot change the fold (BuildSettings::skip_far:
-// per work-item, then per sample with one lane, per work-item alone in lanes; the work-item's test
-// from skip records in lanes, from the staged edit with one lane) changes no bit: adds and
-// subtracts, smooth and hard, rotated and scaled, both sample layouts, int8 and float (where the sign
-// of a zero shows), with and without shared aprons, with one lane and with the device's.
+// Skipping the points where an edit cannot change the fold (BuildSettings::skip_far: a sphere or
+// capsule per work-item, then per sample with one lane, per work-item alone in lanes, the work-item's
+// test from skip records in lanes, from the staged edit with one lane; any other primitive per
+// work-item with one lane) changes no bit: adds and subtracts, smooth and hard, rotated and scaled,
+// both sample layouts, int8 and float (where the sign of a zero shows), with and without shared
+// aprons, with one lane and with the device's.
 TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
     Geometry drops = drops_subset(160), carved = carved_geometry();
     for (Edit& e : drops.edits) e.transform.translation *= 0.3;  // the drops closer together
     for (Edit& e : carved.edits) e.blend *= 3.0;
-    for (const Geometry& g : {drops, carved, capsules_geometry()}) {
+    for (const Geometry& g : {drops, carved, capsules_geometry(), assorted_geometry()}) {
         for (BuildSettings s : {settings(0.125), settings(0.125, BrickFormat::float32, 10)}) {
             BuildSettings all = s;
             all.skip_far = false;
