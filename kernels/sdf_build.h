@@ -19,10 +19,15 @@
 /* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h), for an edit of primitive prim
  * and operation op (constants fold the switches away: sdf_edit_value_unit, which also says what unit
  * is). */
+/* The running value's saturation to [-C, C] after a combine of operation op. The value before it is
+ * in [-C, C], and an add's min(F, v) less the smooth term (w^2 q >= 0) cannot rise above F, nor a
+ * subtract's max(F, -v) plus it fall below F: each needs one side alone, for the same bits. */
+inline sdf_real sdf_saturate(uint op, sdf_real f, float clamp_c) {
+    return op == SDF_OP_ADD ? fmax(f, -clamp_c) : op == SDF_OP_SUBTRACT ? fmin(f, clamp_c) : fmin(fmax(f, -clamp_c), clamp_c);
+}
 inline sdf_real sdf_fold_unit(const SdfPrepared* e, uint prim, uint op, int unit, __global const float* meshes,
                               sdf_real field, sdf_real x, sdf_real y, sdf_real z, float clamp_c) {
-    const sdf_real f = sdf_combine_of(e, op, field, sdf_edit_value_unit(e, prim, unit, meshes, x, y, z));
-    return fmin(fmax(f, -clamp_c), clamp_c);
+    return sdf_saturate(op, sdf_combine_of(e, op, field, sdf_edit_value_unit(e, prim, unit, meshes, x, y, z)), clamp_c);
 }
 inline sdf_real sdf_fold_of(const SdfPrepared* e, uint prim, uint op, __global const float* meshes, sdf_real field,
                             sdf_real x, sdf_real y, sdf_real z, float clamp_c) {
@@ -68,7 +73,7 @@ inline float sdf_fold_radial(const SdfPrepared* e, uint prim, uint op, int unit,
     const float bound = sdf_radial_bound(op, field, offset);
     if ((unit ? d2 : d2 * e->out_scale * e->out_scale) >= bound * bound) return sdf_radial_kept(e->blend, op, field);
     const float l = sqrt(d2) - (prim == SDF_PRIM_CAPSULE ? e->prm[1] : e->prm[0]);
-    return fmin(fmax(sdf_combine_of(e, op, field, unit ? l : l * e->out_scale), -clamp_c), clamp_c);
+    return sdf_saturate(op, sdf_combine_of(e, op, field, unit ? l : l * e->out_scale), clamp_c);
 }
 #endif
 
