@@ -144,7 +144,7 @@ __kernel void brick_count(__global const SdfPrepared* edits, __global const floa
                 const SdfPrepared e = chunk[j];
                 const float offset = terms[j].x;
                 if (offset >= 0.0f)
-                    field = sdf_fold_radial(&e, e.kind & 0xffu, (e.kind >> 8) & 0xffu, 0, field, p.x, p.y, p.z, saturation, offset);
+                    field = sdf_fold_radial(&e, e.kind & 0xffu, (e.kind >> 8) & 0xffu, 0, 0, field, p.x, p.y, p.z, saturation, offset);
                 else
                     fold_step(&field, &excess, terms[j], folds[j], sdf_prepared_value(&e, meshes, p), 0, saturation);
             }

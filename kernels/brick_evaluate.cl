@@ -193,16 +193,16 @@ inline int item_far(const SdfPrepared* e, uint prim, uint op, __global const flo
  * The host hoists for long lists: on an H200 (docs/performance.md) hoisting took drops' evaluation
  * (23 edits a leaf) from 8.76 ms to 6.54, and rain's (8), which the extra registers cost more than
  * the branches, from 2.58 to 2.98. */
-#define FOLD_UNIT_VALUES(PRIM, OP, UNIT)                                                                   \
+#define FOLD_UNIT_VALUES(PRIM, OP, UNIT, KNOWN)                                                            \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
-        if (s < active) field[s] = sdf_fold_unit(e, PRIM, OP, UNIT, meshes, field[s], px[s], py[s], pz[s], clamp_c)
-#define FOLD_VALUES(PRIM, OP) FOLD_UNIT_VALUES(PRIM, OP, 0)
+        if (s < active) field[s] = sdf_fold_unit(e, PRIM, OP, UNIT, KNOWN, meshes, field[s], px[s], py[s], pz[s], clamp_c)
+#define FOLD_VALUES(PRIM, OP) FOLD_UNIT_VALUES(PRIM, OP, 0, 0)
 /* Hoisted, an add or subtract whose scales are 1 folds without their products (sdf_edit_value_unit). */
 #define FOLD_SCALED(PRIM, OP)                                                                              \
     if (unit) {                                                                                            \
-        FOLD_UNIT_VALUES(PRIM, OP, 1);                                                                     \
+        FOLD_UNIT_VALUES(PRIM, OP, 1, 1);                                                                  \
     } else {                                                                                               \
-        FOLD_UNIT_VALUES(PRIM, OP, 0);                                                                     \
+        FOLD_UNIT_VALUES(PRIM, OP, 0, 1);                                                                  \
     }
 #define FOLD_PRIM(PRIM)                                                                                    \
     switch (op) {                                                                                          \
@@ -217,7 +217,7 @@ inline int item_far(const SdfPrepared* e, uint prim, uint op, __global const flo
 #if SKIP_FAR && SDF_LANES == 1
 #define FOLD_RADIAL_VALUES(PRIM, OP, UNIT)                                                                 \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
-        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, UNIT, field[s], px[s], py[s], pz[s], clamp_c, b.w)
+        if (s < active) field[s] = sdf_fold_radial(e, PRIM, OP, UNIT, 1, field[s], px[s], py[s], pz[s], clamp_c, b.w)
 #define FOLD_RADIAL_OP(PRIM, OP)                                                                           \
     {                                                                                                      \
         float4 a, b;                                                                                       \
