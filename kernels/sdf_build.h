@@ -16,9 +16,6 @@
 
 #include "sdf_edit.h"
 
-/* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h), for an edit of primitive prim
- * and operation op (constants fold the switches away: sdf_edit_value_unit, which also says what unit
- * is; known: op is a constant, sdf_saturate). */
 /* The running value's saturation to [-C, C] after a combine of operation op. Where op is a constant
  * of the caller's (known: brick_evaluate's hoisted folds), an add or a subtract saturates one side:
  * the value before it is in [-C, C], and an add's min(F, v) less the smooth term (w^2 q >= 0) cannot
@@ -30,6 +27,9 @@ inline sdf_real sdf_saturate(uint op, int known, sdf_real f, float clamp_c) {
     if (known && op == SDF_OP_SUBTRACT) return fmin(f, clamp_c);
     return fmin(fmax(f, -clamp_c), clamp_c);
 }
+/* One step of the band-limited fold, at (x, y, z) (lanes: sdf_edit.h), for an edit of primitive prim
+ * and operation op (constants fold the switches away: sdf_edit_value_unit, which also says what unit
+ * is; known: op is a constant, sdf_saturate). */
 inline sdf_real sdf_fold_unit(const SdfPrepared* e, uint prim, uint op, int unit, int known, __global const float* meshes,
                               sdf_real field, sdf_real x, sdf_real y, sdf_real z, float clamp_c) {
     const sdf_real f = sdf_combine_of(e, op, field, sdf_edit_value_unit(e, prim, unit, meshes, x, y, z));
