@@ -25,24 +25,27 @@
 #include "sdf_format.h"
 
 /* Where the c-th owned sample is stored: a brick that owns every region (all) numbers its samples as
- * they are stored; another reads the table apron_owned_order filled. */
-inline uint owned_index(uint c, int all, __local const ushort* order) { return all ? c : (uint)order[c]; }
+ * they are stored; another numbers its interior first and reads the shell's from the table
+ * apron_owned_shell filled. */
+inline uint owned_index(uint c, int all, __local const ushort* shell) {
+    return all ? c : c < APRON_INTERIOR_COUNT ? apron_interior_sample(c) : (uint)shell[c - APRON_INTERIOR_COUNT];
+}
 
 /* The sample indices of the value whose first lane is owned sample c: lane l holds owned sample
  * min(c + l, owned - 1). */
-inline sdf_index value_samples(uint c, uint owned, int all, __local const ushort* order) {
+inline sdf_index value_samples(uint c, uint owned, int all, __local const ushort* shell) {
 #if SDF_LANES == 1
-    return (int)owned_index(min(c, owned - 1u), all, order);
+    return (int)owned_index(min(c, owned - 1u), all, shell);
 #else
     if (all) return min((sdf_index)((int)c) + SDF_LANE_OFFSETS, (int)owned - 1);
     int a[SDF_LANES];
-    for (uint l = 0; l < SDF_LANES; ++l) a[l] = (int)order[min(c + l, owned - 1u)];
+    for (uint l = 0; l < SDF_LANES; ++l) a[l] = (int)owned_index(min(c + l, owned - 1u), 0, shell);
     return SDF_REAL_CAT(vload, SDF_LANES)(0, a);
 #endif
 }
 
 /* Stores the value whose first lane is owned sample c (lanes past the last owned sample are dropped). */
-inline void store_samples(__global sample_t* out, uint c, uint owned, int all, __local const ushort* order,
+inline void store_samples(__global sample_t* out, uint c, uint owned, int all, __local const ushort* shell,
                           sdf_real field, float band, float quant_scale) {
     const sdf_real d = fmin(fmax(field, -band), band);
 #if FORMAT == 2
@@ -52,7 +55,7 @@ inline void store_samples(__global sample_t* out, uint c, uint owned, int all, _
 #endif
     float lanes[SDF_LANES];
     sdf_spill_lanes(q, lanes);
-    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[owned_index(c + l, all, order)] = (sample_t)lanes[l];
+    for (uint l = 0; l < SDF_LANES && c + l < owned; ++l) out[owned_index(c + l, all, shell)] = (sample_t)lanes[l];
 }
 
 /* A sphere (centre xyz, radius w) around the samples of the work-item's first active values (every
@@ -288,29 +291,49 @@ __kernel void brick_evaluate(__global const SdfPrepared* edits, __global const f
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
     const SdfBrick b = bricks[brick];
-    __local ushort order[SAMPLE_COUNT];
+    __local ushort shell[APRON_SHELL];
+    const int shift = (int)((finest - b.level) * log2b);
+    /* Products with 2^shift and 2^-shift, exact as ldexp is (the same bits: shift is below 64), but
+     * without the range handling NVIDIA's ldexp expands to. */
+    const float up = as_float((uint)(127 + shift) << 23), down = as_float((uint)(127 - shift) << 23);
+    const float voxel = finest_voxel * up, band = finest_band * up;
+    const float quant_scale = finest_quant_scale * down, clamp_c = level_clamp[b.level];
+    const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
+#if SDF_LANES == 1
+    /* With one lane the samples' coordinates come from a table per axis, filled once per brick (the
+     * same expression, so the same bits). */
+    __local float coords[3 * SAMPLES];
+    for (uint i = lid; i < 3u * SAMPLES; i += wg) {
+        const uint a = i / SAMPLES;
+        const float o = a == 0u ? origin_x : a == 1u ? origin_y : origin_z;
+        const int f = a == 0u ? first.x : a == 1u ? first.y : first.z;
+        coords[i] = o + ((float)(f + (int)(i % SAMPLES)) + 0.5f) * voxel;
+    }
+#endif
 #if APRON_SHARED
     const uint mask = owned_regions[brick];
     const int all = mask == APRON_ALL_REGIONS;
     const uint owned = all ? SAMPLE_COUNT : apron_owned_count(mask);
-    __local uint offsets[27];
-    if (!all) apron_owned_order(mask, offsets, order); /* the same branch in every work-item */
+    if (!all) apron_owned_shell(mask, shell); /* the same branch in every work-item */
     const uint span = wg * SDF_LANES; /* owned samples per value slot of the work-group */
     const uint active = lid * SDF_LANES < owned ? min((uint)PER_ITEM, (owned - lid * SDF_LANES + span - 1u) / span) : 0u;
 #else
     const int all = 1;
     const uint owned = SAMPLE_COUNT, active = PER_ITEM; /* a build that shares nothing */
 #endif
-    const int shift = (int)((finest - b.level) * log2b);
-    const float voxel = ldexp(finest_voxel, shift), band = ldexp(finest_band, shift);
-    const float quant_scale = ldexp(finest_quant_scale, -shift), clamp_c = level_clamp[b.level];
-    const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
+    barrier(CLK_LOCAL_MEM_FENCE); /* the tables above */
     sdf_real px[PER_ITEM], py[PER_ITEM], pz[PER_ITEM], field[PER_ITEM];
     for (uint s = 0; s < PER_ITEM; ++s) {
-        const sdf_index idx = value_samples((s * wg + lid) * SDF_LANES, owned, all, order);
+        const sdf_index idx = value_samples((s * wg + lid) * SDF_LANES, owned, all, shell);
+#if SDF_LANES == 1
+        px[s] = coords[idx % SAMPLES];
+        py[s] = coords[SAMPLES + (idx / SAMPLES) % SAMPLES];
+        pz[s] = coords[2 * SAMPLES + idx / (SAMPLES * SAMPLES)];
+#else
         px[s] = origin_x + (SDF_CONVERT_REAL(first.x + idx % SAMPLES) + 0.5f) * voxel;
         py[s] = origin_y + (SDF_CONVERT_REAL(first.y + (idx / SAMPLES) % SAMPLES) + 0.5f) * voxel;
         pz[s] = origin_z + (SDF_CONVERT_REAL(first.z + idx / (SAMPLES * SAMPLES)) + 0.5f) * voxel;
+#endif
         field[s] = clamp_c;
     }
 #if SKIP_FAR
@@ -348,5 +371,5 @@ __kernel void brick_evaluate(__global const SdfPrepared* edits, __global const f
     }
     __global sample_t* out = pool + (size_t)brick * SAMPLE_COUNT;
     for (uint s = 0; s < active; ++s)
-        store_samples(out, (s * wg + lid) * SDF_LANES, owned, all, order, field[s], band, quant_scale);
+        store_samples(out, (s * wg + lid) * SDF_LANES, owned, all, shell, field[s], band, quant_scale);
 }

@@ -21,21 +21,21 @@
 
 inline int3 apron_direction(uint r) { return (int3)((int)(r % 3u) - 1, (int)(r / 3u % 3u) - 1, (int)(r / 9u) - 1); }
 
-/* Samples of region r: per axis APRON, or INTERIOR where its direction is 0 (code 1). */
-#define APRON_EXTENT(code) ((code) == 1 ? INTERIOR : APRON)
-#define APRON_SIZE(r) (APRON_EXTENT((r) % 3) * APRON_EXTENT((r) / 3 % 3) * APRON_EXTENT((r) / 9))
-__constant uint apron_region_size[27] = {
-    APRON_SIZE(0),  APRON_SIZE(1),  APRON_SIZE(2),  APRON_SIZE(3),  APRON_SIZE(4),  APRON_SIZE(5),  APRON_SIZE(6),
-    APRON_SIZE(7),  APRON_SIZE(8),  APRON_SIZE(9),  APRON_SIZE(10), APRON_SIZE(11), APRON_SIZE(12), APRON_SIZE(13),
-    APRON_SIZE(14), APRON_SIZE(15), APRON_SIZE(16), APRON_SIZE(17), APRON_SIZE(18), APRON_SIZE(19), APRON_SIZE(20),
-    APRON_SIZE(21), APRON_SIZE(22), APRON_SIZE(23), APRON_SIZE(24), APRON_SIZE(25), APRON_SIZE(26)};
+/* Regions by kind, as sets of region bits: faces (off the interior on one axis: INTERIOR^2 APRON
+ * samples), edges (on two: INTERIOR APRON^2) and corners (on three: APRON^3). */
+#define APRON_FACES ((1u << 4) | (1u << 10) | (1u << 12) | (1u << 14) | (1u << 16) | (1u << 22))
+#define APRON_CORNERS ((1u << 0) | (1u << 2) | (1u << 6) | (1u << 8) | (1u << 18) | (1u << 20) | (1u << 24) | (1u << 26))
+#define APRON_EDGES (APRON_ALL_REGIONS & ~APRON_FACES & ~APRON_CORNERS & ~(1u << APRON_INTERIOR_REGION))
+#define APRON_FACE_SIZE (INTERIOR * INTERIOR * APRON)
+#define APRON_EDGE_SIZE (INTERIOR * APRON * APRON)
+#define APRON_CORNER_SIZE (APRON * APRON * APRON)
+#define APRON_INTERIOR_COUNT (INTERIOR * INTERIOR * INTERIOR)
+#define APRON_SHELL (SAMPLE_COUNT - APRON_INTERIOR_COUNT) /* samples outside the interior */
 
-/* Samples in the regions of mask. */
+/* Samples in the regions of mask (bit 13 always set). */
 inline uint apron_owned_count(uint mask) {
-    uint n = 0;
-    for (uint r = 0; r < 27u; ++r)
-        if ((mask >> r) & 1u) n += apron_region_size[r];
-    return n;
+    return APRON_INTERIOR_COUNT + APRON_FACE_SIZE * popcount(mask & APRON_FACES) +
+           APRON_EDGE_SIZE * popcount(mask & APRON_EDGES) + APRON_CORNER_SIZE * popcount(mask & APRON_CORNERS);
 }
 
 /* Per axis: the region code (0, 1, 2 for direction -1, 0, +1) of sample coordinate i, the first
@@ -50,30 +50,57 @@ inline int3 apron_sample(uint a) {
 /* The region of sample (i, j, k). */
 inline uint apron_region_of(int3 q) { return apron_code(q.x) + 3u * apron_code(q.y) + 9u * apron_code(q.z); }
 
-/* Owned samples are numbered interior first (x fastest), then the other owned regions in region
- * order (x fastest inside each). */
-#define APRON_INTERIOR_COUNT (INTERIOR * INTERIOR * INTERIOR)
+/* The 26 regions of the shell by kind (faces, edges, corners), each kind in region order: owned
+ * samples are numbered interior first (x fastest), then the owned regions in this order (x fastest
+ * inside each), so that a region's first number takes three popcounts of the mask. */
+__constant uchar apron_shell_regions[26] = {4, 10, 12, 14, 16, 22, 1, 3, 5, 7, 9, 11, 15, 17, 19, 21, 23, 25,
+                                            0, 2, 6, 8, 18, 20, 24, 26};
 
-/* The owned samples of mask in that order, as a table: order[c] = the sample index of the c-th owned
- * sample (c < apron_owned_count(mask)); offsets (27 entries) is scratch. Every work-item of the group calls it (it has barriers). */
-inline void apron_owned_order(uint mask, __local uint* offsets, __local ushort* order) {
+/* The sample index of the c-th interior sample (x fastest). */
+inline uint apron_interior_sample(uint c) {
+    const uint x = c % INTERIOR, y = c / INTERIOR % INTERIOR, z = c / (INTERIOR * INTERIOR);
+    return (x + APRON) + SAMPLES * ((y + APRON) + SAMPLES * (z + APRON));
+}
+
+/* Of the j-th shell sample (faces, edges, corners; region after region in the order above): its
+ * region, its number inside the region, and the region's kind set and size. */
+inline uint apron_shell_region(uint j, uint* i, uint* kind, uint* size) {
+    const uint edges = 6u * APRON_FACE_SIZE, corners = edges + 12u * APRON_EDGE_SIZE;
+    uint k;
+    if (j < edges) {
+        k = j / APRON_FACE_SIZE, *i = j % APRON_FACE_SIZE, *kind = APRON_FACES, *size = APRON_FACE_SIZE;
+    } else if (j < corners) {
+        k = 6u + (j - edges) / APRON_EDGE_SIZE, *i = (j - edges) % APRON_EDGE_SIZE, *kind = APRON_EDGES,
+        *size = APRON_EDGE_SIZE;
+    } else {
+        k = 18u + (j - corners) / APRON_CORNER_SIZE, *i = (j - corners) % APRON_CORNER_SIZE, *kind = APRON_CORNERS,
+        *size = APRON_CORNER_SIZE;
+    }
+    return apron_shell_regions[k];
+}
+
+/* The sample index of number i (x fastest) of region r. */
+inline uint apron_region_sample(uint r, uint i) {
+    const uint cx = r % 3u, cy = r / 3u % 3u, cz = r / 9u;
+    const uint x = cx == 1u ? i % INTERIOR : i % APRON, t = cx == 1u ? i / INTERIOR : i / APRON;
+    const uint y = cy == 1u ? t % INTERIOR : t % APRON, z = cy == 1u ? t / INTERIOR : t / APRON;
+    return (apron_first(cx) + x) + SAMPLES * ((apron_first(cy) + y) + SAMPLES * (apron_first(cz) + z));
+}
+
+/* The owned shell samples of mask in that order, as a table: shell[c] = the sample index of owned
+ * sample APRON_INTERIOR_COUNT + c. Every work-item of the group calls it; the caller puts a barrier
+ * before reading it. */
+inline void apron_owned_shell(uint mask, __local ushort* shell) {
     const uint lid = get_local_id(0), wg = get_local_size(0);
-    for (uint r = lid; r < 27u; r += wg) {
-        uint o = APRON_INTERIOR_COUNT;
-        for (uint p = 0; p < r; ++p)
-            if (p != APRON_INTERIOR_REGION && ((mask >> p) & 1u)) o += apron_region_size[p];
-        offsets[r] = r == APRON_INTERIOR_REGION ? 0u : o;
+    const uint faces = APRON_FACE_SIZE * popcount(mask & APRON_FACES);
+    const uint edges = faces + APRON_EDGE_SIZE * popcount(mask & APRON_EDGES);
+    for (uint j = lid; j < APRON_SHELL; j += wg) {
+        uint i, kind, size;
+        const uint r = apron_shell_region(j, &i, &kind, &size);
+        if (!((mask >> r) & 1u)) continue;
+        const uint before = kind == APRON_FACES ? 0u : kind == APRON_EDGES ? faces : edges;
+        shell[before + size * popcount(mask & kind & ((1u << r) - 1u)) + i] = (ushort)apron_region_sample(r, i);
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint a = lid; a < SAMPLE_COUNT; a += wg) {
-        const int3 q = apron_sample(a);
-        const uint cx = apron_code(q.x), cy = apron_code(q.y), cz = apron_code(q.z);
-        const uint r = cx + 3u * cy + 9u * cz;
-        if ((mask >> r) & 1u)
-            order[offsets[r] + ((uint)q.x - apron_first(cx)) +
-                  APRON_EXTENT(cx) * (((uint)q.y - apron_first(cy)) + APRON_EXTENT(cy) * ((uint)q.z - apron_first(cz)))] = (ushort)a;
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
 }
 
 #endif /* SDFBRICK_SDF_APRON_H */
