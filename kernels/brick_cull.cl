@@ -6,7 +6,7 @@
  *   (brick_subdivide wrote the words of each brick's bit set; cull_words for a re-cull)  -> scan -> word offsets
  *   cull_mark:  the bit set, and where each word's entries are in the parent lists
  *   cull_dependencies (with dependencies on): the bits of the kept smooth edits' dependencies
- *   cull_count: the kept count per word  -> scan -> each word's output slot
+ *   scan_popcount_blocks (scan.cl): the kept count per word (its bits), scanned -> each word's output slot
  *   cull_write: the compacted lists; the bricks' edit_offset / edit_count now name them
  * cull_mark and cull_write take `span` bits per work-item (a power of two up to 32): 1 where a level
  * has few (the top levels: few bricks, long lists), so that the device is full, up to a word where it
@@ -222,12 +222,6 @@ __kernel void cull_dependencies(__global const SdfEdit* edits, __global const ui
 
 /* Per word: its kept count (kept_words has one more entry than there are words: a 0, so that its
  * prefix sum ends in the total). A word per work-item: a brick's long list is no serial walk. */
-__kernel void cull_count(__global const uint* bits, uint total_words, __global uint* kept_words) {
-    const uint w = get_global_id(0);
-    if (w < total_words) kept_words[w] = popcount(bits[w]);
-    if (w == total_words) kept_words[w] = 0u;
-}
-
 /* span bits per work-item (with one, a warp writes one word's entries side by side): a kept entry
  * goes to its word's first output slot (the prefix sum of the kept counts) plus the kept entries
  * before it in the word. The first `count`

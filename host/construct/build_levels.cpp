@@ -310,11 +310,9 @@ std::unique_ptr<ocl::Buffer<cl_uint>> Levels::cull_lists(int level, std::uint64_
     }
     if (kept_words_.size() < total_words + 1)
         kept_words_ = allocate<cl_uint>(in_.device, total_words + 1, "the cull kept counts");
-    ocl::set_args(k.cull_count_k.get(), bits_, static_cast<cl_uint>(total_words), kept_words_);
-    in_.scheduler.launch(measure::Stage::cull, level, k.cull_count_k.get(), round_up(total_words + 1, kGroup1d),
-                         kGroup1d);
+    // Each word's output slot: the prefix sum of the kept entries per word (its bits), and their total.
     const std::uint64_t entries =
-        in_.scan.exclusive(kept_words_, kept_words_, total_words + 1, in_.scheduler, measure::Stage::cull, level);
+        in_.scan.exclusive_popcounts(bits_, kept_words_, total_words + 1, in_.scheduler, measure::Stage::cull, level);
     auto lists = std::make_unique<ocl::Buffer<cl_uint>>(
         allocate<cl_uint>(in_.device, entries, fmt::format("the edit lists of level {}", level)));
     // On GPUs at most 4 bits a work-item: 8 work-items write a word's entries side by side, where a

@@ -106,7 +106,7 @@ inline float float_down(double x) {
 struct BuildPrograms {
     ocl::Program prepare, count, subdivide, cull, aabb, order;
     ocl::Kernel prepare_k, count_k, count_merge_k, mask_counts_k, subdivide_k, words_k, mark_k, mark_siblings_k,
-        sibling_groups_k, dependencies_k, cull_count_k, write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
+        sibling_groups_k, dependencies_k, write_k, aabb_k, split_k, rank_k, keys_k, place_k, keep_k, put_k;
     std::unique_ptr<DependencyBuilder> dependencies;  // built on first use
     struct Splice {  // brick_splice.cl, built on first use (rebuilds)
         ocl::Program program;
@@ -163,7 +163,6 @@ struct BuildPrograms {
           mark_siblings_k(ocl::make_kernel(cull, "cull_mark_siblings")),
           sibling_groups_k(ocl::make_kernel(cull, "sibling_groups")),
           dependencies_k(ocl::make_kernel(cull, "cull_dependencies")),
-          cull_count_k(ocl::make_kernel(cull, "cull_count")),
           write_k(ocl::make_kernel(cull, "cull_write")), aabb_k(ocl::make_kernel(aabb, "brick_aabb")),
           split_k(ocl::make_kernel(order, "brick_split")), rank_k(ocl::make_kernel(order, "brick_rank")),
           keys_k(ocl::make_kernel(order, "brick_keys")), place_k(ocl::make_kernel(order, "brick_place")),

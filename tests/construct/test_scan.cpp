@@ -1,7 +1,10 @@
 // The device exclusive prefix sum (host/construct/scan.h, kernels/scan.cl) against std::exclusive_scan:
 // lengths around the block size (4 * local size values per work-group), a multi-level length, in
 // place, and the 2^32 overflow checks.
+#include <algorithm>
+#include <bit>
 #include <cstdint>
+#include <stdexcept>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -86,6 +89,34 @@ TEST(ConstructScan, FreshScanDeepRecursion) {
 TEST(ConstructScan, ThreeMillion) {
     Scan scan(test::device());
     check_scan(scan, 3000000, 31);
+}
+
+// The bit counts of n - 1 words and a 0, scanned: against popcounts summed on the host; the words are
+// left as they were, and the outputs beyond n untouched.
+TEST(ConstructScan, PopcountsOfWords) {
+    ocl::Device& dev = test::device();
+    Scan scan(dev);
+    measure::Scheduler scheduler(dev);
+    std::uint64_t seed = 51;
+    for (std::size_t n : {1, 2, 1024, 1025, 4097, 1500001}) {
+        Rng rng(seed++);
+        std::vector<cl_uint> words(std::max<std::size_t>(n - 1, 1));
+        for (auto& w : words) w = static_cast<cl_uint>(rng.next()) & static_cast<cl_uint>(rng.next());
+        std::vector<cl_uint> counts(n, 0);
+        for (std::size_t i = 0; i + 1 < n; ++i) counts[i] = static_cast<cl_uint>(std::popcount(words[i]));
+        const std::vector<cl_uint> expected = host_exclusive(counts);
+        ocl::Buffer<cl_uint> in(dev, std::span<const cl_uint>(words));
+        ocl::Buffer<cl_uint> out(dev, n + 3);
+        out.write(std::vector<cl_uint>(n + 3, 0xabcdabcdu));
+        EXPECT_EQ(scan.exclusive_popcounts(in, out, n, scheduler, measure::Stage::cull, -1), host_total(counts))
+            << "n = " << n;
+        const std::vector<cl_uint> got = out.read();
+        EXPECT_TRUE(std::equal(expected.begin(), expected.end(), got.begin())) << "n = " << n;
+        for (std::size_t i = n; i < got.size(); ++i) EXPECT_EQ(got[i], 0xabcdabcdu) << "n = " << n << ", i = " << i;
+        EXPECT_EQ(in.read(), words) << "n = " << n;
+    }
+    ocl::Buffer<cl_uint> both(dev, 4);
+    EXPECT_THROW(scan.exclusive_popcounts(both, both, 3, scheduler, measure::Stage::cull, -1), std::invalid_argument);
 }
 
 TEST(ConstructScan, SumsBeyond32BitsThrow) {
