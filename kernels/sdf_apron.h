@@ -66,17 +66,22 @@ inline uint apron_interior_sample(uint c) {
  * region, its number inside the region, and the region's kind set and size. */
 inline uint apron_shell_region(uint j, uint* i, uint* kind, uint* size) {
     const uint edges = 6u * APRON_FACE_SIZE, corners = edges + 12u * APRON_EDGE_SIZE;
-    uint k;
     if (j < edges) {
-        k = j / APRON_FACE_SIZE, *i = j % APRON_FACE_SIZE, *kind = APRON_FACES, *size = APRON_FACE_SIZE;
-    } else if (j < corners) {
-        k = 6u + (j - edges) / APRON_EDGE_SIZE, *i = (j - edges) % APRON_EDGE_SIZE, *kind = APRON_EDGES,
-        *size = APRON_EDGE_SIZE;
-    } else {
-        k = 18u + (j - corners) / APRON_CORNER_SIZE, *i = (j - corners) % APRON_CORNER_SIZE, *kind = APRON_CORNERS,
-        *size = APRON_CORNER_SIZE;
+        *kind = APRON_FACES;
+        *size = APRON_FACE_SIZE;
+        *i = j % APRON_FACE_SIZE;
+        return apron_shell_regions[j / APRON_FACE_SIZE];
     }
-    return apron_shell_regions[k];
+    if (j < corners) {
+        *kind = APRON_EDGES;
+        *size = APRON_EDGE_SIZE;
+        *i = (j - edges) % APRON_EDGE_SIZE;
+        return apron_shell_regions[6u + (j - edges) / APRON_EDGE_SIZE];
+    }
+    *kind = APRON_CORNERS;
+    *size = APRON_CORNER_SIZE;
+    *i = (j - corners) % APRON_CORNER_SIZE;
+    return apron_shell_regions[18u + (j - corners) / APRON_CORNER_SIZE];
 }
 
 /* The sample index of number i (x fastest) of region r. */
