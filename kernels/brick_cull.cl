@@ -220,8 +220,6 @@ __kernel void cull_dependencies(__global const SdfEdit* edits, __global const ui
     }
 }
 
-/* Per word: its kept count (kept_words has one more entry than there are words: a 0, so that its
- * prefix sum ends in the total). A word per work-item: a brick's long list is no serial walk. */
 /* span bits per work-item (with one, a warp writes one word's entries side by side): a kept entry
  * goes to its word's first output slot (the prefix sum of the kept counts) plus the kept entries
  * before it in the word. The first `count`

@@ -3,9 +3,9 @@
  * the exclusive result and the block's total; scan_popcount_blocks does the same over the bit counts
  * of the words in[0, words), then zeros (the cull's kept entries per word, and their total). The
  * block totals are scanned the same way (recursion on the host) and pass 2 (scan_add) adds each
- * block's offset. Integer sums: the order of additions
- * cannot change a result. A sum that wraps past 2^32 sets *overflow (a constant store: its order does
- * not matter). The local size must be a power of two. */
+ * block's offset. Integer sums: the order of additions cannot change a result. A sum that wraps past
+ * 2^32 sets *overflow (a constant store: its order does not matter). The local size must be a power
+ * of two. */
 #define ITEMS 4
 
 /* The block scan of values v[i], i < n: in[i] (popcounts 0) or its bit count (1) for i < inputs, 0

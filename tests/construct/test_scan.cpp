@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
-#include <stdexcept>
 #include <numeric>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
