@@ -7,7 +7,7 @@
  * beside it in `skips` (two float4: radial_record). Samples are written to the brick pool clamped to
  * +-band and stored as FORMAT: 0 = int8 snorm, 1 = int16 snorm, 2 = float32.
  * Compile-time: SAMPLES (S: 8 or 10), APRON (1 or 2), SDF_LANES (1, or the SIMD width of a CPU
- * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT, EVAL_HOIST (below),
+ * device: sdf_edit.h), PER_ITEM (ceil(S^3 / (local size x lanes))), FORMAT,
  * APRON_SHARED (0: every leaf owns all its samples, and the kernel reads no owned_regions),
  * SKIP_FAR (1: sphere and capsule edits skip the work-items, and with one lane the samples, they
  * cannot change, below), SKIP_RECORDS (1 only with SKIP_FAR and lanes: the work-item's test reads
@@ -191,11 +191,11 @@ inline int item_far(const SdfPrepared* e, uint prim, uint op, __global const flo
 #error "skip records serve the work-item test in lanes only"
 #endif
 
-/* Folds edit e into this work-item's first active values. With EVAL_HOIST 1 the primitive and
- * operation are branched on once per edit, outside the loop over the values; with 0 once per value.
- * The host hoists for long lists: on an H200 (docs/performance.md) hoisting took drops' evaluation
- * (23 edits a leaf) from 8.76 ms to 6.54, and rain's (8), which the extra registers cost more than
- * the branches, from 2.58 to 2.98. */
+/* Folds edit e into this work-item's first active values, the primitive and operation branched on
+ * once per edit, outside the loop over the values. (Short lists used to branch once per value, which
+ * an H200 once measured faster on rain; with the work-item's skip tests an H100 took rain's
+ * evaluation from 2.40 ms to 1.37 branching once per edit, board's from 0.95 to 0.77, and no scene's
+ * longer: docs/measurements/roof/d76.txt.) */
 #define FOLD_UNIT_VALUES(PRIM, OP, UNIT, KNOWN)                                                            \
     for (uint s = 0; s < PER_ITEM; ++s)                                                                    \
         if (s < active) field[s] = sdf_fold_unit(e, PRIM, OP, UNIT, KNOWN, meshes, field[s], px[s], py[s], pz[s], clamp_c)
@@ -261,7 +261,6 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
                         Extremes* extremes) {
     const uint prim = e->kind & 0xffu, op = (e->kind >> 8) & 0xffu;
     int folded = 1;
-#if EVAL_HOIST
     const int unit = sdf_unit_scale(e);
     switch (prim) {
         case SDF_PRIM_SPHERE: if (HAS_PRIM(SDF_PRIM_SPHERE)) FOLD_RADIAL(SDF_PRIM_SPHERE); break;
@@ -275,9 +274,6 @@ inline void fold_values(const SdfPrepared* e, __global const float* meshes, sdf_
         /* Menger, mesh: long enough that the switch costs nothing */
         default: if (HAS_PRIM(SDF_PRIM_MENGER) || HAS_PRIM(SDF_PRIM_MESH)) FOLD_VALUES(prim, op); break;
     }
-#else
-    FOLD_VALUES(prim, op);
-#endif
     if (folded) extremes->stale = 1;
 }
 

@@ -99,9 +99,6 @@ struct BuildSettings {
     bool adaptive() const { return tolerance > 0.0; }
     BrickLayout layout() const { return {samples, format}; }
     int lanes(const ocl::DeviceInfo& device) const;
-    // A mean leaf list this long pays for branching on the primitive once per edit
-    // (kernels/brick_evaluate.cl; measured on an H200 between rain's 8 and drops' 23 edits).
-    static constexpr int kLongList = 16;
     double voxel() const { return leaf_size / layout().interior(); }
     // Whether the leaf evaluation keeps skip records beside the staged edits: with CPU lanes, where
     // they made drops' evaluation 13% shorter on PoCL; not with one lane, where an H100's evaluation

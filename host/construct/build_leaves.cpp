@@ -17,8 +17,6 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
     const auto lanes = static_cast<std::size_t>(in.settings.lanes(in.device.info()));
     const std::size_t group = std::min<std::size_t>(in.settings.eval_group, (samples3 + lanes - 1) / lanes);
     const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
-    const double mean_list = in.settings.cull ? static_cast<double>(lists.size()) / static_cast<double>(count)
-                                              : static_cast<double>(in.edits_host.size());
     // The primitives and operations the edits use: the kernel compiles the folds of these alone (a
     // number past the masks' bits, never in a validated scene, keeps every fold). radial: a sphere
     // or capsule add or subtract among them; add_or_subtract: an add or subtract of any primitive.
@@ -31,20 +29,17 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
         add_or_subtract = add_or_subtract || skippable;
         radial = radial || ((e.primitive == SDF_PRIM_SPHERE || e.primitive == SDF_PRIM_CAPSULE) && skippable);
     }
-    // Long lists branch once per edit (EVAL_HOIST), and CPU lanes always do (PoCL here,
-    // docs/measurements/roof/pocl-hoist.txt: board's evaluation 31 -> 25 ms, ground_trees' 394 ->
-    // 323, rain's 144-151 -> 127; same digests); only those skip far edits; the skip's code costs
-    // registers, so only a geometry with edits it can skip has it: sphere or capsule adds or
-    // subtracts, or on one lane (GPUs) adds or subtracts of any primitive (the work-item's test).
-    const bool hoist = lanes > 1 || mean_list >= BuildSettings::kLongList;
-    const bool skip_far = hoist && in.settings.skip_far && (radial || (add_or_subtract && lanes == 1));
+    // The skip of far edits costs registers, so only a geometry with edits it can skip has it: sphere
+    // or capsule adds or subtracts, or on one lane (GPUs) adds or subtracts of any primitive (the
+    // work-item's test).
+    const bool skip_far = in.settings.skip_far && (radial || (add_or_subtract && lanes == 1));
     // The work-item's skip test reads records in local memory with CPU lanes (BuildSettings::skip_records).
     const bool records = skip_far && radial && BuildSettings::skip_records(static_cast<int>(lanes));
     const ocl::Program program = ocl::build_program(
         in.device, "brick_evaluate.cl",
-        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DEVAL_HOIST={} -DAPRON_SHARED={} -DSKIP_FAR={} "
+        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DAPRON_SHARED={} -DSKIP_FAR={} "
                     "-DSKIP_RECORDS={} -DEVAL_PRIMS={}u -DEVAL_OPS={}u",
-                    layout.defines(), lanes, per_item, hoist ? 1 : 0, owned ? 1 : 0, skip_far ? 1 : 0,
+                    layout.defines(), lanes, per_item, owned ? 1 : 0, skip_far ? 1 : 0,
                     records ? 1 : 0, prims, ops) +
             ocl::register_cap_option(in.device.info(), in.settings.eval_registers));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");

@@ -86,8 +86,7 @@ Geometry carved_geometry() {
 }
 
 // Rotated, scaled capsules and spheres, added and then carved by smooth and hard subtractions, all
-// within reach of each other: lists long enough (BuildSettings::kLongList) that the evaluation
-// branches once per edit.
+// within reach of each other: long lists, with most of their edits far from most samples.
 Geometry capsules_geometry() {
     Geometry g;
     g.name = "capsules";
@@ -394,7 +393,6 @@ TEST(ConstructBuild, SkippingFarEditsDoesNotChangeTheOutput) {
                     fmt::format("{}, {} samples, lanes {}, sharing from {}", g.name, s.samples, lanes, share);
                 EXPECT_EQ(construct::list_digest(b), construct::list_digest(full)) << where;
                 EXPECT_EQ(construct::output_digest(b, s), construct::output_digest(full, all)) << where;
-                EXPECT_GE(b.edits_per_leaf_mean, BuildSettings::kLongList) << where;
             }
         }
     }
