@@ -1,7 +1,8 @@
 #!/bin/bash
 # d77: main with the evaluation branching once per edit on every list (3c1798e's binary, kernels ks):
 # adaptive builds against uniform ones at their finest size, one round of 10 captures (device and
-# wall ms, leaves, digests); the session's device time allowed no second round.
+# wall ms, leaves, digests). Prepared, not run: the session's device time went to starts that got
+# no machine.
 source .device/env.sh
 export SDFBRICK_CACHE_DIR=/tmp/sdfcache
 nvidia-smi --query-gpu=name,driver_version --format=csv,noheader
