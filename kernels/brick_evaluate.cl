@@ -28,7 +28,8 @@
  * they are stored; another numbers its interior first and reads the shell's from the table
  * apron_owned_shell filled. */
 inline uint owned_index(uint c, int all, __local const ushort* shell) {
-    return all ? c : c < APRON_INTERIOR_COUNT ? apron_interior_sample(c) : (uint)shell[c - APRON_INTERIOR_COUNT];
+    if (all) return c;
+    return c < APRON_INTERIOR_COUNT ? apron_region_sample(APRON_INTERIOR_REGION, c) : (uint)shell[c - APRON_INTERIOR_COUNT];
 }
 
 /* The sample indices of the value whose first lane is owned sample c: lane l holds owned sample

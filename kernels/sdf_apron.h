@@ -38,8 +38,8 @@ inline uint apron_owned_count(uint mask) {
            APRON_EDGE_SIZE * popcount(mask & APRON_EDGES) + APRON_CORNER_SIZE * popcount(mask & APRON_CORNERS);
 }
 
-/* Per axis: the region code (0, 1, 2 for direction -1, 0, +1) of sample coordinate i, the first
- * sample of that code's range and its length. */
+/* Per axis: the region code (0, 1, 2 for direction -1, 0, +1) of sample coordinate i, and the first
+ * sample of that code's range. */
 inline uint apron_code(int i) { return i < APRON ? 0u : i < SAMPLES - APRON ? 1u : 2u; }
 inline uint apron_first(uint code) { return code == 0u ? 0u : code == 1u ? (uint)APRON : (uint)(SAMPLES - APRON); }
 
@@ -55,12 +55,6 @@ inline uint apron_region_of(int3 q) { return apron_code(q.x) + 3u * apron_code(q
  * inside each), so that a region's first number takes three popcounts of the mask. */
 __constant uchar apron_shell_regions[26] = {4, 10, 12, 14, 16, 22, 1, 3, 5, 7, 9, 11, 15, 17, 19, 21, 23, 25,
                                             0, 2, 6, 8, 18, 20, 24, 26};
-
-/* The sample index of the c-th interior sample (x fastest). */
-inline uint apron_interior_sample(uint c) {
-    const uint x = c % INTERIOR, y = c / INTERIOR % INTERIOR, z = c / (INTERIOR * INTERIOR);
-    return (x + APRON) + SAMPLES * ((y + APRON) + SAMPLES * (z + APRON));
-}
 
 /* Of the j-th shell sample (faces, edges, corners; region after region in the order above): its
  * region, its number inside the region, and the region's kind set and size. */
@@ -84,7 +78,8 @@ inline uint apron_shell_region(uint j, uint* i, uint* kind, uint* size) {
     return apron_shell_regions[18u + (j - corners) / APRON_CORNER_SIZE];
 }
 
-/* The sample index of number i (x fastest) of region r. */
+/* The sample index of number i (x fastest) of region r (the interior's c-th sample with r =
+ * APRON_INTERIOR_REGION, a constant that folds the branches away). */
 inline uint apron_region_sample(uint r, uint i) {
     const uint cx = r % 3u, cy = r / 3u % 3u, cz = r / 9u;
     const uint x = cx == 1u ? i % INTERIOR : i % APRON, t = cx == 1u ? i / INTERIOR : i / APRON;
