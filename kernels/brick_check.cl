@@ -213,14 +213,58 @@ inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine
     return fmax(mine, sdf_lanes_max(select(SDF_SPLAT(0.0f), error, on)));
 }
 
+/* Whether a hard box or rounded box added alone is, clamped to the band, one face's plane clamped to
+ * it over the box [lo, hi] (its samples' span). In the edit's frame, with h the half extents less the
+ * rounding r, the six faces' planes are P = +-c_a - h_a, and the distance is the box's (at least
+ * every P) less r. Where every plane but face f's is at most L = min(0, r - band) (the band in the
+ * edit's units), the distance is P_f - r wherever it is above -band: outside the box only P_f can
+ * be positive, and inside, where another plane is the box's, the distance is at most L - r <= -band.
+ * A plane's maximum over the span is at a corner, so this holds where at most one face's plane
+ * exceeds L at the corners (where none does, the field is -band over the span, as any face's plane
+ * clamped is). Returns a bound on the rounding of the folds' values and of the interpolation over
+ * the span (64 float epsilons of the magnitudes they add), or -1 where it does not hold. */
+inline float affine_box(const SdfEdit e, float3 lo, float3 hi, float band) {
+    if (e.op != SDF_OP_ADD || e.blend > 0.0f || (e.primitive != SDF_PRIM_BOX && e.primitive != SDF_PRIM_ROUND_BOX))
+        return -1.0f;
+    const SdfPrepared pe = sdf_prepare(e);
+    const float r = e.primitive == SDF_PRIM_ROUND_BOX ? e.params[3] : 0.0f;
+    const float3 h = (float3)(e.params[0], e.params[1], e.params[2]) - r;
+    const float3 far = fmax(fabs(lo), fabs(hi)) + fabs((float3)(pe.t[0], pe.t[1], pe.t[2]));
+    const float extent = fmax(fmax(far.x, far.y), far.z) * pe.inv_scale + fmax(fmax(h.x, h.y), h.z) + r;
+    const float out = fabs(pe.out_scale);
+    const float rounding = 64.0f * FLT_EPSILON * (extent * out + band);
+    const float limit = fmin(0.0f, r - band / out) - rounding / out; /* in the edit's frame */
+    float3 above = (float3)(-INFINITY), below = (float3)(-INFINITY); /* the + and - faces' planes' maxima */
+    for (uint k = 0; k < 8u; ++k) {
+        sdf_real x = SDF_SPLAT((k & 1u) ? hi.x : lo.x), y = SDF_SPLAT((k & 2u) ? hi.y : lo.y),
+                 z = SDF_SPLAT((k & 4u) ? hi.z : lo.z);
+        sdf_edit_frame_of(&pe, 1, &x, &y, &z);
+        const float3 c = (float3)(first_lane(x), first_lane(y), first_lane(z));
+        above = fmax(above, c - h);
+        below = fmax(below, -c - h);
+    }
+    const int3 up = isgreater(above, (float3)(limit)), down = isgreater(below, (float3)(limit));
+    const int faces = (up.x != 0) + (up.y != 0) + (up.z != 0) + (down.x != 0) + (down.y != 0) + (down.z != 0);
+    return faces <= 1 ? rounding : -1.0f;
+}
+
 /* Before the samples are evaluated: per brick, whether it reaches a thin edit or has fewer than
  * min_children children at the next level (children: that level's count over every brick checked
  * here). Either fails it: its copy in `masked`, which the evaluation reads, has no edits, so that
- * nothing is folded for it. passed: 0 for those, 1 for the others (brick_check decides them). */
+ * nothing is folded for it. passed: 0 for those, 1 for the others. errors: -1, except where a brick's
+ * list is one edit whose band-limited field is a plane's over its samples (affine_box) and
+ * half_step >= 0: there the bound on its check error, half_step plus the rounding, when that is
+ * under half the tolerance, and brick_check passes it unchecked. Trilinear interpolation reproduces
+ * an affine field, so where a check point's corners lie within the band its error is at most half
+ * a quantisation step (half_step) and the rounding, too little to fail the sign test; the host
+ * passes half_step -1 at a level where a corner saturated at the band might not put the point and
+ * its interpolation beyond the window, where both clamp to the same value (build_adaptive.cpp). */
 __kernel void brick_thin(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                          __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z, float voxel,
                          float window, float cell, float radius, __global const uint* children, uint min_children,
-                         __global SdfBrick* masked, __global uint* passed) {
+                         float half_step, float band, float tolerance, __global SdfBrick* masked,
+                         __global uint* passed,
+                         __global float* errors) {
     __local int thin;
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
@@ -235,9 +279,18 @@ __kernel void brick_thin(__global const SdfEdit* edits, __global const float* me
         thin = 1;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
+        const float3 first = (float3)((float)b.coord[0], (float)b.coord[1], (float)b.coord[2]) * (float)INTERIOR -
+                             (float)APRON + 0.5f;
+        const float3 lo = (float3)(origin_x, origin_y, origin_z) + first * voxel;
+        const float rounding = !thin && half_step >= 0.0f && b.edit_count == 1u
+                                   ? affine_box(edits[edit_indices[b.edit_offset]], lo,
+                                                lo + (float)(SAMPLES - 1) * voxel, band)
+                                   : -1.0f;
+        const float bound = half_step + rounding;
         if (thin) b.edit_count = 0u;
         masked[brick] = b;
         passed[brick] = thin ? 0u : 1u;
+        errors[brick] = rounding >= 0.0f && bound < 0.5f * tolerance ? bound : -1.0f;
     }
 }
 
@@ -260,6 +313,7 @@ __kernel void brick_check(__global const SdfPrepared* edits, __global const floa
         if (lid == 0) errors[brick] = INFINITY;
         return;
     }
+    if (errors[brick] >= 0.0f) return; /* brick_thin passed it as affine, with its error */
     const SdfBrick b = bricks[brick];
     __global const uint* list = edit_indices + b.edit_offset;
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;
