@@ -223,7 +223,7 @@ inline float keep_errors(sdf_real error, uint lanes, float tolerance, float mine
  * exceeds L at the corners (where none does, the field is -band over the span, as any face's plane
  * clamped is). Returns a bound on the rounding of the folds' values and of the interpolation over
  * the span (64 float epsilons of the magnitudes they add), or -1 where it does not hold. */
-inline float affine_box(const SdfEdit e, float3 lo, float3 hi, float band) {
+inline float box_as_plane(const SdfEdit e, float3 lo, float3 hi, float band) {
     if (e.op != SDF_OP_ADD || e.blend > 0.0f || (e.primitive != SDF_PRIM_BOX && e.primitive != SDF_PRIM_ROUND_BOX))
         return -1.0f;
     const SdfPrepared pe = sdf_prepare(e);
@@ -251,20 +251,19 @@ inline float affine_box(const SdfEdit e, float3 lo, float3 hi, float band) {
 /* Before the samples are evaluated: per brick, whether it reaches a thin edit or has fewer than
  * min_children children at the next level (children: that level's count over every brick checked
  * here). Either fails it: its copy in `masked`, which the evaluation reads, has no edits, so that
- * nothing is folded for it. passed: 0 for those, 1 for the others. errors: -1, except where a brick's
- * list is one edit whose band-limited field is a plane's over its samples (affine_box) and
- * half_step >= 0: there the bound on its check error, half_step plus the rounding, when that is
- * under half the tolerance, and brick_check passes it unchecked. Trilinear interpolation reproduces
- * an affine field, so where a check point's corners lie within the band its error is at most half
- * a quantisation step (half_step) and the rounding, too little to fail the sign test; the host
- * passes half_step -1 at a level where a corner saturated at the band might not put the point and
- * its interpolation beyond the window, where both clamp to the same value (build_adaptive.cpp). */
+ * nothing is folded for it. passed: 0 for those, 1 for the others. errors: -1, except for a brick
+ * whose list is one edit whose band-limited field is a plane's over its samples (box_as_plane):
+ * trilinear interpolation reproduces a plane, so where a check point's corners lie within the band
+ * its error is at most half a quantisation step (half_step) and the rounding. Where that bound is
+ * under half the tolerance (no sign test can fail) and band - sqrt(3) voxels - the bound is beyond
+ * the window (a point next to a corner saturated at the band lies beyond the window with its
+ * interpolation, the field 1-Lipschitz and the point sqrt(3)/2 voxel from its corners, so both clamp
+ * to the same value), errors holds the bound and brick_check passes the brick unchecked. */
 __kernel void brick_thin(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                          __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z, float voxel,
                          float window, float cell, float radius, __global const uint* children, uint min_children,
                          float half_step, float band, float tolerance, __global SdfBrick* masked,
-                         __global uint* passed,
-                         __global float* errors) {
+                         __global uint* passed, __global float* errors) {
     __local int thin;
     const uint brick = get_group_id(0);
     const uint lid = get_local_id(0), wg = get_local_size(0);
@@ -282,15 +281,16 @@ __kernel void brick_thin(__global const SdfEdit* edits, __global const float* me
         const float3 first = (float3)((float)b.coord[0], (float)b.coord[1], (float)b.coord[2]) * (float)INTERIOR -
                              (float)APRON + 0.5f;
         const float3 lo = (float3)(origin_x, origin_y, origin_z) + first * voxel;
-        const float rounding = !thin && half_step >= 0.0f && b.edit_count == 1u
-                                   ? affine_box(edits[edit_indices[b.edit_offset]], lo,
-                                                lo + (float)(SAMPLES - 1) * voxel, band)
+        const float rounding = !thin && b.edit_count == 1u
+                                   ? box_as_plane(edits[edit_indices[b.edit_offset]], lo,
+                                                  lo + (float)(SAMPLES - 1) * voxel, band)
                                    : -1.0f;
         const float bound = half_step + rounding;
+        const int plane = rounding >= 0.0f && bound < 0.5f * tolerance && band - 1.7320508f * voxel - bound >= window;
         if (thin) b.edit_count = 0u;
         masked[brick] = b;
         passed[brick] = thin ? 0u : 1u;
-        errors[brick] = rounding >= 0.0f && bound < 0.5f * tolerance ? bound : -1.0f;
+        errors[brick] = plane ? bound : -1.0f;
     }
 }
 
@@ -313,7 +313,7 @@ __kernel void brick_check(__global const SdfPrepared* edits, __global const floa
         if (lid == 0) errors[brick] = INFINITY;
         return;
     }
-    if (errors[brick] >= 0.0f) return; /* brick_thin passed it as affine, with its error */
+    if (errors[brick] >= 0.0f) return; /* brick_thin passed it as a plane, with its error */
     const SdfBrick b = bricks[brick];
     __global const uint* list = edit_indices + b.edit_offset;
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;

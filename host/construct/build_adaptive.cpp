@@ -10,17 +10,6 @@ namespace sdfbrick::construct::detail {
 namespace {
 // A brick's samples as 32-bit words (S^3 is a multiple of 4 for S = 8 and 10, in every format).
 cl_uint brick_words(const BrickLayout& layout) { return static_cast<cl_uint>(layout.brick_bytes() / 4); }
-
-// The half quantisation step by which brick_thin bounds the check error of a brick whose field is
-// affine over its samples (and passes it unchecked), or -1 where such a brick must be checked: where
-// a corner of a check point is saturated at the band, the point (sqrt(3)/2 voxel from its corners,
-// the field 1-Lipschitz) and every other corner lie beyond band - sqrt(3) voxels, and that must be
-// beyond the window for the interpolation and the field to clamp to the same value there (1/64
-// voxel for the rounding, the margin brick_check allows the folds).
-float affine_half_step(const BrickLayout& layout, float band, float voxel, float window) {
-    const float half_step = layout.format == BrickFormat::float32 ? 0.0f : 0.5f * layout.dequantise_scale(band);
-    return band - std::sqrt(3.0f) * voxel - half_step - voxel / 64.0f >= window ? half_step : -1.0f;
-}
 }  // namespace
 
 // The check of one level coarser than the finest (brick_check.cl), then the split of its bricks
@@ -105,11 +94,13 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     // edits; the others' samples come from the evaluation, which the check compares with the field.
     ocl::Buffer<SdfBrick> masked = allocate<SdfBrick>(in_.device, n, "the checked bricks");
     const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
+    // A brick whose field is a plane over its samples passes with half a quantisation step and the
+    // rounding as its error, where that cannot fail it (brick_thin).
+    const float half_step = layout.format == BrickFormat::float32 ? 0.0f : 0.5f * layout.dequantise_scale(band);
     ocl::set_args(thin.get(), in_.edits, in_.meshes, lists, bricks, in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
                   in_.plan.cull_radius(level), children ? *children : in_.empty_uints, min_children,
-                  affine_half_step(layout, band, voxel, window), band, in_.plan.tolerance, masked, out.passed,
-                  out.errors);
+                  half_step, band, in_.plan.tolerance, masked, out.passed, out.errors);
     // A CPU core runs a work-group's items one after another, mostly idle on short lists: 16 of them
     // there (PoCL here: brick_thin 0.40 -> 0.18 ms a build on board, 2.0 -> 1.6 on engraved_slab).
     // The result is an or over the list: no bit depends on the size.
