@@ -107,10 +107,18 @@ void BuildReport::fill(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl
     if (leaf_count > 0 && in_.settings.adaptive()) {
         in_.out.edits_per_leaf_mean = static_cast<double>(c.entries) / static_cast<double>(leaf_count);
         in_.out.edits_per_leaf_max = static_cast<std::uint32_t>(c.longest_leaf);
+        // The maximum and the 99th percentile by selection, not a sort, in the capture's wall time:
+        // drops at 0.03125 (E = 0.001) has 52,204 checked leaves, and on this project's 2-core
+        // machine sorting 60,000 errors took 4.6 ms, selecting the 99th percentile 0.15.
         std::vector<double> errors = adaptive_->check_errors();
-        std::sort(errors.begin(), errors.end());
-        in_.out.check_error_max = errors.empty() ? 0.0 : errors.back();
-        in_.out.check_error_p99 = errors.empty() ? 0.0 : errors[std::min(errors.size() - 1, errors.size() * 99 / 100)];
+        if (!errors.empty()) {
+            const auto p99 = errors.begin() + static_cast<std::ptrdiff_t>(std::min(errors.size() - 1, errors.size() * 99 / 100));
+            std::nth_element(errors.begin(), p99, errors.end());
+            in_.out.check_error_p99 = *p99;
+            in_.out.check_error_max = *std::max_element(p99, errors.end());
+        } else {
+            in_.out.check_error_max = in_.out.check_error_p99 = 0.0;
+        }
     } else if (leaf_count > 0) {
         const LevelReport& leaf = in_.out.level_reports.back();
         in_.out.edits_per_leaf_mean = static_cast<double>(leaf.edit_entries) / static_cast<double>(leaf_count);
