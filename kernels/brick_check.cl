@@ -251,14 +251,15 @@ inline float box_as_plane(const SdfEdit e, float3 lo, float3 hi, float band) {
 /* Before the samples are evaluated: per brick, whether it reaches a thin edit or has fewer than
  * min_children children at the next level (children: that level's count over every brick checked
  * here). Either fails it: its copy in `masked`, which the evaluation reads, has no edits, so that
- * nothing is folded for it. passed: 0 for those, 1 for the others. errors: -1, except for a brick
+ * nothing is folded for it. passed: 0 for those, 1 for the others. errors: 0, except for a brick
  * whose list is one edit whose band-limited field is a plane's over its samples (box_as_plane):
  * trilinear interpolation reproduces a plane, so where a check point's corners lie within the band
  * its error is at most half a quantisation step (half_step) and the rounding. Where that bound is
  * under half the tolerance (no sign test can fail) and band - sqrt(3) voxels - the bound is beyond
  * the window (a point next to a corner saturated at the band lies beyond the window with its
  * interpolation, the field 1-Lipschitz and the point sqrt(3)/2 voxel from its corners, so both clamp
- * to the same value), errors holds the bound and brick_check passes the brick unchecked. */
+ * to the same value), errors holds minus the bound (the host reads its sign as the plane's mark)
+ * and brick_check passes the brick unchecked; elsewhere 0. */
 __kernel void brick_thin(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                          __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z, float voxel,
                          float window, float cell, float radius, __global const uint* children, uint min_children,
@@ -290,7 +291,7 @@ __kernel void brick_thin(__global const SdfEdit* edits, __global const float* me
         if (thin) b.edit_count = 0u;
         masked[brick] = b;
         passed[brick] = thin ? 0u : 1u;
-        errors[brick] = plane ? bound : -1.0f;
+        errors[brick] = plane ? -bound : 0.0f;
     }
 }
 
@@ -313,7 +314,7 @@ __kernel void brick_check(__global const SdfPrepared* edits, __global const floa
         if (lid == 0) errors[brick] = INFINITY;
         return;
     }
-    if (errors[brick] >= 0.0f) return; /* brick_thin passed it as a plane, with its error */
+    if (errors[brick] < 0.0f) return; /* brick_thin passed it as a plane, with minus its error */
     const SdfBrick b = bricks[brick];
     __global const uint* list = edit_indices + b.edit_offset;
     const int3 first = (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON;

@@ -127,6 +127,7 @@ struct LevelReport {
     std::uint32_t max_edits = 0;
     double count_ms = 0.0, scan_ms = 0.0, subdivide_ms = 0.0, cull_ms = 0.0;
     std::uint64_t leaves = 0;  // bricks of this level that are leaves (adaptive builds: checked ones)
+    std::uint64_t plane_leaves = 0;  // adaptive builds: of those, the ones passed as planes, unchecked
     // The host reference's surface cells of this level (reference/surface_cells.h), when asked for.
     std::optional<std::uint64_t> reference_cells;
 };

@@ -212,15 +212,18 @@ std::uint64_t AdaptiveLeaves::leaves_of(int level) const {
     return 0;
 }
 
-std::vector<double> AdaptiveLeaves::check_errors() const {
-    std::vector<double> leaf_errors;
+AdaptiveLeaves::CheckedLeaves AdaptiveLeaves::check_errors() const {
+    CheckedLeaves out;
     for (const LevelLeaves& l : checked_) {
         const std::vector<float> errors = l.errors.read();
         const std::vector<cl_uint> passed = l.passed.read();
-        for (std::size_t i = 0; i < errors.size(); ++i)
-            if (passed[i]) leaf_errors.push_back(errors[i]);
+        for (std::size_t i = 0; i < errors.size(); ++i) {
+            if (!passed[i]) continue;
+            out.errors.push_back(std::abs(errors[i]));  // negative: passed as a plane (brick_thin)
+            if (errors[i] < 0.0f) ++out.planes[l.level];
+        }
     }
-    return leaf_errors;
+    return out;
 }
 
 }  // namespace sdfbrick::construct::detail

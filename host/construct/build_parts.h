@@ -390,8 +390,13 @@ public:
     std::uint64_t assemble(Levels& levels);
     // Leaves of a level (0 when none of it are leaves).
     std::uint64_t leaves_of(int level) const;
-    // The check's worst error of every checked leaf (reads the check results back, for the report).
-    std::vector<double> check_errors() const;
+    // The check's worst error of every checked leaf, and per checked level the leaves it passed as
+    // planes, unchecked (reads the check results back, for the report).
+    struct CheckedLeaves {
+        std::vector<double> errors;
+        std::map<int, std::uint64_t> planes;
+    };
+    CheckedLeaves check_errors() const;
     const ocl::Buffer<SdfBrick>& merged() const { return *merged_; }
     std::unique_ptr<ocl::Buffer<SdfBrick>> take_merged() { return std::move(merged_); }
     // The merged leaves as the leaf evaluation reads them: those of checked levels have no edits,

@@ -56,7 +56,7 @@ double kept_per_reference(const construct::LevelReport& l) {
 
 nlohmann::json to_json(const construct::LevelReport& l) {
     nlohmann::json j = {{"level", l.level}, {"cell_size", l.cell_size}, {"bricks", l.bricks}, {"leaves", l.leaves},
-                        {"edit_entries", l.edit_entries}, {"max_edits", l.max_edits},
+                        {"plane_leaves", l.plane_leaves}, {"edit_entries", l.edit_entries}, {"max_edits", l.max_edits},
                         {"count_ms", l.count_ms}, {"scan_ms", l.scan_ms}, {"subdivide_ms", l.subdivide_ms},
                         {"cull_ms", l.cull_ms}};
     if (l.reference_cells) {
@@ -97,13 +97,14 @@ std::string to_text(const GeometryFigures& g) {
                          "p99 {:.4g}\n", g.tolerance, g.check_error_max, g.check_error_p99);
     const bool reference = !g.level_table.empty() && g.level_table.front().reference_cells.has_value();
     s += fmt::format("    level  cell      bricks   edits/brick  max   count ms  scan ms  subdiv ms  cull ms{}{}\n",
-                     g.tolerance > 0.0 ? "     leaves   leaf pool" : "", reference ? "  reference  kept/ref" : "");
+                     g.tolerance > 0.0 ? "     leaves     planes   leaf pool" : "", reference ? "  reference  kept/ref" : "");
     for (const auto& l : g.level_table) {
         s += fmt::format("    {:>5}  {:<8.4g} {:>9}  {:>11.2f}  {:>4}  {:>8.3f}  {:>7.3f}  {:>9.3f}  {:>7.3f}", l.level,
                          l.cell_size, l.bricks,
                          l.bricks ? static_cast<double>(l.edit_entries) / static_cast<double>(l.bricks) : 0.0,
                          l.max_edits, l.count_ms, l.scan_ms, l.subdivide_ms, l.cull_ms);
-        if (g.tolerance > 0.0) s += fmt::format("  {:>9}  {:>10}", l.leaves, bytes_text(l.leaves * g.brick_bytes));
+        if (g.tolerance > 0.0)
+            s += fmt::format("  {:>9}  {:>9}  {:>10}", l.leaves, l.plane_leaves, bytes_text(l.leaves * g.brick_bytes));
         s += l.reference_cells ? fmt::format("  {:>9}  {:>8.3f}\n", *l.reference_cells, kept_per_reference(l)) : "\n";
     }
     s += fmt::format("    edits per leaf: mean {:.2f}, max {}; edit evaluations {:.4g}\n", g.edits_per_leaf_mean,

@@ -519,6 +519,7 @@ construct::LevelReport merged_level(const std::vector<const HostBuild*>& parts, 
         r.subdivide_ms += q.subdivide_ms;
         r.cull_ms += q.cull_ms;
         r.leaves += q.leaves;
+        r.plane_leaves += q.plane_leaves;
     }
     return r;
 }

@@ -170,6 +170,14 @@ TEST(ConstructAdaptive, PlaneBricksPassedUncheckedMeetTheTolerance) {
             const std::string what = fmt::format("{} at E = {}", to_string(primitive), tolerance);
             std::size_t checked = 0;
             const double worst = coarse_leaf_error(g, s, b, checked);
+            std::uint64_t planes = 0, coarse = 0;
+            for (const construct::LevelReport& r : b.level_reports) {
+                EXPECT_LE(r.plane_leaves, r.leaves) << what << ", level " << r.level;
+                if (r.level < b.levels - 1) coarse += r.leaves;
+                planes += r.plane_leaves;
+            }
+            EXPECT_GT(planes, coarse / 10) << what << ": the plane faces should give plane bricks";
+            EXPECT_LT(planes, coarse) << what << ": the edges and corners should not";
             ASSERT_GT(checked, 10000u) << what;
             EXPECT_LE(worst, tolerance + 1e-5) << what << ", over " << checked << " points";
             EXPECT_GT(b.check_error_max, 0.0) << what;
