@@ -115,7 +115,8 @@ void BuildReport::fill(const ocl::Buffer<SdfBrick>& leaves, const ocl::Buffer<cl
             if (const auto it = checked.planes.find(r.level); it != checked.planes.end()) r.plane_leaves = it->second;
         std::vector<double>& errors = checked.errors;
         if (!errors.empty()) {
-            const auto p99 = errors.begin() + static_cast<std::ptrdiff_t>(std::min(errors.size() - 1, errors.size() * 99 / 100));
+            const std::size_t at = std::min(errors.size() - 1, errors.size() * 99 / 100);
+            const auto p99 = errors.begin() + static_cast<std::ptrdiff_t>(at);
             std::nth_element(errors.begin(), p99, errors.end());
             in_.out.check_error_p99 = *p99;
             in_.out.check_error_max = *std::max_element(p99, errors.end());
