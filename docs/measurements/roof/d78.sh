@@ -23,7 +23,7 @@ for r in 1 2; do
     echo "$r uniform $c: $(timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X 2>&1 | ev)"; done
 done
 echo "== kernel stats engraved_slab E 0.002 new"
-timeout 60 .device/bin/sdfbrick-new -d gpu build $S/engraved_slab.json --tolerance 0.002 $X --kernel-stats 2>&1 | sed -n '/^    level  cell/,$p' | grep -vE "^    level [0-9] .* 0\.00[0-9]{2} *$" | head -90
+timeout 60 .device/bin/sdfbrick-new -d gpu build $S/engraved_slab.json --tolerance 0.002 $X --kernel-stats 2>&1 | sed -n '/^    level  cell/,$p' | grep -vE "^    level [0-9] .* 0\.00[0-9]{2} *$" | head -110
 if echo "$GPU" | grep -q H200; then
   for r in 1 2; do for e in "" "--chunk 32 --group 64 --eval-max-registers 56" "--chunk 32 --group 64"; do
     echo "$r drops 0.0625 $e: $(timeout 60 .device/bin/sdfbrick-new -d gpu build scenes/drops.json --brick-size 0.0625 $e $X 2>&1 | ev)"; done; done
