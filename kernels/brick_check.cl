@@ -59,6 +59,16 @@
 inline uint phase_end(uint k) { return k < 2u ? k + 1u : 8u; }
 #define STORED (VALUES * SDF_LANES + SAMPLES * SAMPLES + SAMPLES + 1) /* the corners the last value reads */
 
+/* Half a quantisation step of the stored samples (dequant: the distance per stored unit), by which a
+ * stored sample may differ from the field clamped to the band; 0 for float samples. */
+inline float half_step_of(float dequant) {
+#if FORMAT == 2
+    return 0.0f;
+#else
+    return 0.5f * dequant;
+#endif
+}
+
 /* Lane 0 of a value (sdf_edit.h: every lane is the float result at its point). */
 #if SDF_LANES == 1
 inline float first_lane(sdf_real v) { return v; }
@@ -254,7 +264,7 @@ inline float box_as_plane(const SdfEdit e, float3 lo, float3 hi, float band) {
  * nothing is folded for it. passed: 0 for those, 1 for the others. errors: 0, except for a brick
  * whose list is one edit whose band-limited field is a plane's over its samples (box_as_plane):
  * trilinear interpolation reproduces a plane, so where a check point's corners lie within the band
- * its error is at most half a quantisation step (half_step) and the rounding. Where that bound is
+ * its error is at most half a quantisation step (half_step_of) and the rounding. Where that bound is
  * under half the tolerance (no sign test can fail) and band - sqrt(3) voxels - the bound is beyond
  * the window (a point next to a corner saturated at the band lies beyond the window with its
  * interpolation, the field 1-Lipschitz and the point sqrt(3)/2 voxel from its corners, so both clamp
@@ -263,7 +273,7 @@ inline float box_as_plane(const SdfEdit e, float3 lo, float3 hi, float band) {
 __kernel void brick_thin(__global const SdfEdit* edits, __global const float* meshes, __global const uint* edit_indices,
                          __global const SdfBrick* bricks, float origin_x, float origin_y, float origin_z, float voxel,
                          float window, float cell, float radius, __global const uint* children, uint min_children,
-                         float half_step, float band, float tolerance, __global SdfBrick* masked,
+                         float dequant, float band, float tolerance, __global SdfBrick* masked,
                          __global uint* passed, __global float* errors) {
     __local int thin;
     const uint brick = get_group_id(0);
@@ -279,14 +289,13 @@ __kernel void brick_thin(__global const SdfEdit* edits, __global const float* me
         thin = 1;
     barrier(CLK_LOCAL_MEM_FENCE);
     if (lid == 0) {
-        const float3 first = (float3)((float)b.coord[0], (float)b.coord[1], (float)b.coord[2]) * (float)INTERIOR -
-                             (float)APRON + 0.5f;
-        const float3 lo = (float3)(origin_x, origin_y, origin_z) + first * voxel;
+        const float3 lo = sdf_cell_centre((float3)(origin_x, origin_y, origin_z), voxel,
+                                          (int3)(b.coord[0], b.coord[1], b.coord[2]) * INTERIOR - APRON);
         const float rounding = !thin && b.edit_count == 1u
                                    ? box_as_plane(edits[edit_indices[b.edit_offset]], lo,
                                                   lo + (float)(SAMPLES - 1) * voxel, band)
                                    : -1.0f;
-        const float bound = half_step + rounding;
+        const float bound = half_step_of(dequant) + rounding;
         const int plane = rounding >= 0.0f && bound < 0.5f * tolerance && band - 1.7320508f * voxel - bound >= window;
         if (thin) b.edit_count = 0u;
         masked[brick] = b;
@@ -334,11 +343,7 @@ __kernel void brick_check(__global const SdfPrepared* edits, __global const floa
      * least `far`, F clamped to the window is +-window with the sample's sign, and deep enough for
      * the sign test: the list need not be folded there (its error is the one the fold would give). */
     const float far = fmax(window, 0.5f * tolerance) + voxel * 0.015625f;
-#if FORMAT == 2
-    const float half_step = 0.0f;
-#else
-    const float half_step = 0.5f * dequant;
-#endif
+    const float half_step = half_step_of(dequant);
     /* A cell all of whose corners are stored deeper than far + its half diagonal (+ half a step)
      * lies beyond the window on one side: at every check point in it or on its boundary, F and the
      * interpolation clamp to the same +-window, an error of 0, so those points are skipped. */

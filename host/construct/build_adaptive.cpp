@@ -96,11 +96,11 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
     // A brick whose field is a plane over its samples passes with half a quantisation step and the
     // rounding as its error, where that cannot fail it (brick_thin).
-    const float half_step = layout.format == BrickFormat::float32 ? 0.0f : 0.5f * layout.dequantise_scale(band);
+    const float dequant = layout.dequantise_scale(band);
     ocl::set_args(thin.get(), in_.edits, in_.meshes, lists, bricks, in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
                   in_.plan.cull_radius(level), children ? *children : in_.empty_uints, min_children,
-                  half_step, band, in_.plan.tolerance, masked, out.passed, out.errors);
+                  dequant, band, in_.plan.tolerance, masked, out.passed, out.errors);
     // A CPU core runs a work-group's items one after another, mostly idle on short lists: 16 of them
     // there (PoCL here: brick_thin 0.40 -> 0.18 ms a build on board, 2.0 -> 1.6 on engraved_slab).
     // The result is an or over the list: no bit depends on the size.
@@ -109,7 +109,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
     evaluate_samples(in_, masked, lists, n, nullptr, samples, measure::Stage::check, level);
     ocl::set_args(kernel.get(), in_.prepared_edits, in_.meshes, fold_lists, fold_bricks, samples, in_.origin.x,
-                  in_.origin.y, in_.origin.z, voxel, fold_clamp, band, layout.dequantise_scale(band),
+                  in_.origin.y, in_.origin.z, voxel, fold_clamp, band, dequant,
                   in_.plan.tolerance, window, out.errors, out.passed,
                   ocl::LocalMemory{group * sizeof(float)},
                   ocl::LocalMemory{chunk * sizeof(SdfPrepared)}, static_cast<cl_uint>(chunk));
