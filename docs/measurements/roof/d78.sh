@@ -3,7 +3,7 @@
 # band-limited field is a plane over the brick's samples (brick_thin's bound: half a quantisation step and the
 # rounding). old: 9dcd9b6's binary; new: main's (9740f91 or later). Two rounds of 10 captures, in turn;
 # then per-kernel stats of engraved_slab at E = 0.002 (new), and the uniform builds at the finest size.
-# Prepared, not run: no device machine came after d77 this session. d78-tilted.json is the rotated
+# Run 2026-12-07 (next session) on an H100: d78.txt. d78-tilted.json is the rotated
 # slab of ConstructAdaptive.PlaneBricksPassedUncheckedMeetTheTolerance (rounded).
 source .device/env.sh
 export SDFBRICK_CACHE_DIR=/tmp/sdfcache
@@ -24,6 +24,8 @@ for r in 1 2; do
 done
 echo "== kernel stats engraved_slab E 0.002 new"
 timeout 60 .device/bin/sdfbrick-new -d gpu build $S/engraved_slab.json --tolerance 0.002 $X --kernel-stats 2>&1 | sed -n '/^    level  cell/,$p' | grep -vE "^    level [0-9] .* 0\.00[0-9]{2} *$" | head -110
+echo "== kernel stats engraved_slab 0.0625 E 0.008 new"
+timeout 60 .device/bin/sdfbrick-new -d gpu build $S/engraved_slab.json --brick-size 0.0625 --tolerance 0.008 $X --kernel-stats 2>&1 | sed -n '/^    level  cell/,$p' | grep -vE "^    level [0-9] .* 0\.00[0-9]{2} *$" | head -80
 if echo "$GPU" | grep -q H200; then
   for r in 1 2; do for e in "" "--chunk 32 --group 64 --eval-max-registers 56" "--chunk 32 --group 64"; do
     echo "$r drops 0.0625 $e: $(timeout 60 .device/bin/sdfbrick-new -d gpu build scenes/drops.json --brick-size 0.0625 $e $X 2>&1 | ev)"; done; done
