@@ -27,17 +27,25 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     // was slower on five of the six scenes. On CPUs, where a core runs a work-group's items one after
     // another, 8: PoCL here (docs/measurements/adaptive/c3/cg.txt) ran brick_check 3-20% faster than
     // with the evaluation's tuned 32 on every hard case, board and drops.
+    // A level with few candidates takes twice the work-items a brick (fills_few_waves).
     constexpr std::size_t kCpuGroup = 8;
-    const std::size_t group =
-        in_.device.info().type == "gpu"
-            ? std::min<std::size_t>(128, ocl::kernel_work_group_limit(in_.device, kernel.get(), "brick_check"))
-            : std::min<std::size_t>(kCpuGroup, layout.samples_per_brick());
+    const std::size_t limit = ocl::kernel_work_group_limit(in_.device, kernel.get(), "brick_check");
+    std::size_t group = in_.device.info().type == "gpu" ? std::min<std::size_t>(128, limit)
+                                                        : std::min<std::size_t>(kCpuGroup, layout.samples_per_brick());
     // Its chunk: the evaluation's, or as much as the device's local memory holds beside the check's
     // own arrays (about 22 KB for 8^3 samples, 28 KB for 10^3) and the work-group's worst errors.
     // The fold is in list order whatever the chunk: no bit depends on it.
-    const std::size_t chunk = staged_chunk(
-        static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
-        ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check") + group * sizeof(float), sizeof(SdfPrepared));
+    const auto chunk_for = [&](std::size_t g) {
+        return staged_chunk(static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
+                            ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check") + g * sizeof(float),
+                            sizeof(SdfPrepared));
+    };
+    std::size_t chunk = chunk_for(group);
+    if (chunk > 0 && group * 2 <= limit &&
+        fills_few_waves(in_.device, kernel.get(), group * sizeof(float) + chunk * sizeof(SdfPrepared), group, n)) {
+        group *= 2;
+        chunk = chunk_for(group);
+    }
     if (chunk == 0)
         throw SettingError("samples", fmt::format("the adaptive check of {}^3 samples needs more local memory than {} "
                                                   "has ({} bytes): use 8 samples or a uniform build",

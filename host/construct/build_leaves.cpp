@@ -3,20 +3,28 @@
 #include <algorithm>
 
 #include "cl/launch.h"
+#include "measure/kernel_attributes.h"
+#include "measure/occupancy.h"
 
 namespace sdfbrick::construct::detail {
 
-// The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;
-// owned: per brick, the regions it evaluates (null: all). Launched as stage at level.
-void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
-                      std::uint64_t count, const ocl::Buffer<cl_uint>* owned, ocl::Buffer<std::uint8_t>& pool,
-                      measure::Stage stage, int level) {
-    if (count == 0) return;
+bool fills_few_waves(const ocl::Device& device, cl_kernel kernel, std::uint64_t unset_local_bytes, std::size_t group,
+                     std::uint64_t groups) {
+    if (device.info().type != "gpu") return false;
+    measure::KernelAttributes k = measure::kernel_attributes(device, kernel);
+    k.local_mem_bytes += unset_local_bytes;
+    const measure::Occupancy o = measure::occupancy(device.info(), k, group, groups);
+    return o.waves && *o.waves <= 2.0;
+}
+
+namespace {
+// brick_evaluate with its arguments set, for work-groups of `group` work-items (see evaluate_samples).
+ocl::Kernel evaluation_kernel(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
+                              const ocl::Buffer<cl_uint>* owned, const ocl::Buffer<float>& level_clamp,
+                              ocl::Buffer<std::uint8_t>& pool, std::size_t group) {
     const BrickLayout layout = in.settings.layout();
-    const std::size_t samples3 = layout.samples_per_brick();
     const auto lanes = static_cast<std::size_t>(in.settings.lanes(in.device.info()));
-    const std::size_t group = std::min<std::size_t>(in.settings.eval_group, (samples3 + lanes - 1) / lanes);
-    const std::size_t per_item = (samples3 + group * lanes - 1) / (group * lanes);
+    const std::size_t per_item = (layout.samples_per_brick() + group * lanes - 1) / (group * lanes);
     // The primitives and operations the edits use: the kernel compiles the folds of these alone (a
     // number past the masks' bits, never in a validated scene, keeps every fold). radial: a sphere
     // or capsule add or subtract among them; add_or_subtract: an add or subtract of any primitive.
@@ -42,8 +50,7 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
                     layout.defines(), lanes, per_item, owned ? 1 : 0, skip_far ? 1 : 0,
                     records ? 1 : 0, prims, ops) +
             ocl::register_cap_option(in.device.info(), in.settings.eval_registers));
-    const ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
-    const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
+    ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
     const std::size_t record_count = records ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1;  // float4 each
     ocl::set_args(kernel.get(), in.prepared_edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
                   in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp, in.plan.band,
@@ -51,6 +58,28 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
                   ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfPrepared)},
                   ocl::LocalMemory{record_count * sizeof(cl_float4)},
                   static_cast<cl_uint>(in.settings.chunk));
+    return kernel;
+}
+}  // namespace
+
+// The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;
+// owned: per brick, the regions it evaluates (null: all). Launched as stage at level.
+void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
+                      std::uint64_t count, const ocl::Buffer<cl_uint>* owned, ocl::Buffer<std::uint8_t>& pool,
+                      measure::Stage stage, int level) {
+    if (count == 0) return;
+    const auto lanes = static_cast<std::size_t>(in.settings.lanes(in.device.info()));
+    const std::size_t most = (in.settings.layout().samples_per_brick() + lanes - 1) / lanes;  // values a brick
+    std::size_t group = std::min<std::size_t>(in.settings.eval_group, most);
+    const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
+    ocl::Kernel kernel = evaluation_kernel(in, bricks, lists, owned, level_clamp, pool, group);
+    // The check's candidates at a level with few of them: twice the work-items a brick (fills_few_waves).
+    if (stage == measure::Stage::check && group * 2 <= most &&
+        group * 2 <= ocl::kernel_work_group_limit(in.device, kernel.get(), "brick_evaluate") &&
+        fills_few_waves(in.device, kernel.get(), 0, group, count)) {
+        group *= 2;
+        kernel = evaluation_kernel(in, bricks, lists, owned, level_clamp, pool, group);
+    }
     in.scheduler.launch(stage, level, kernel.get(), count * group, group);
 }
 

@@ -423,6 +423,17 @@ private:
     std::uint64_t kept_bytes_ = 0;                     // the leaves' samples kept so far
 };
 
+// Whether a launch of `groups` work-groups of `group` work-items of kernel fills at most two waves of
+// the device, by the occupancy model (measure/occupancy.h: known on NVIDIA, elsewhere false), with
+// unset_local_bytes of __local arguments not set yet. The adaptive check's levels with few candidates
+// then run the candidates' evaluation and brick_check with twice the work-items a brick: such a
+// level's time is that of its longest lists, which each work-item then folds over half the points.
+// On an H100 (docs/measurements/roof/d79.txt) engraved_slab's level of 1,232 candidates (1.04 waves
+// of brick_check) took 0.086 -> 0.060 ms to evaluate and 0.128 -> 0.100 to check; levels of 9.9 waves
+// and more were 10-25% slower with the wider groups. Changes no bit.
+bool fills_few_waves(const ocl::Device& device, cl_kernel kernel, std::uint64_t unset_local_bytes, std::size_t group,
+                     std::uint64_t groups);
+
 // The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;
 // owned: per brick, the regions it evaluates (null: all). Launched as stage at level.
 void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
