@@ -430,7 +430,7 @@ private:
 // level's time is that of its longest lists, which each work-item then folds over half the points.
 // On an H100 (docs/measurements/roof/d79.txt) engraved_slab's level of 1,232 candidates (1.04 waves
 // of brick_check) took 0.086 -> 0.060 ms to evaluate and 0.128 -> 0.100 to check; levels of 9.9 waves
-// and more were 10-25% slower with the wider groups. Changes no bit.
+// and more were 13-27% slower with the wider groups. Changes no bit.
 bool fills_few_waves(const ocl::Device& device, cl_kernel kernel, std::uint64_t unset_local_bytes, std::size_t group,
                      std::uint64_t groups);
 
