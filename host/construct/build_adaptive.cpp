@@ -41,7 +41,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
                             sizeof(SdfPrepared));
     };
     std::size_t chunk = chunk_for(group);
-    if (chunk > 0 && group * 2 <= limit &&
+    if (chunk > 0 && group * 2 <= limit && chunk_for(group * 2) > 0 &&
         fills_few_waves(in_.device, kernel.get(), group * sizeof(float) + chunk * sizeof(SdfPrepared), group, n)) {
         group *= 2;
         chunk = chunk_for(group);
