@@ -1,0 +1,31 @@
+#!/bin/bash
+# d80: the adaptive check's levels with few candidates (at most two waves by the occupancy model) with
+# twice the work-items a brick, in the candidates' evaluation and in brick_check. old: 948f9e9's
+# behaviour (d79's experimental binary, no variables set); new: da433d9. Two rounds of 10
+# captures, in turn, with the uniform builds at the finest size beside them; then per-level stats.
+# Prepared 2026-12-07 (sixth session); not run yet: no device machine came after d79. Needs
+# .device/bin/sdfbrick-exp (d79-groups.diff on 948f9e9) and .device/bin/sdfbrick-new (da433d9 or later).
+source .device/env.sh
+export SDFBRICK_CACHE_DIR=/tmp/sdfcache
+GPU=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader); echo "$GPU"
+X="--warmup 1 --repeat 10"
+S=scenes/stability
+ev() { grep -oE 'check [0-9.]+|total [0-9.]+ ms|wall [0-9.]+|^  digest [0-9a-f]+' | tr '\n' ' '; }
+ks() { awk '/^  (brick_evaluate|brick_check) /{p=1; print; next} /^  [a-z_]+ /{p=0} p&&/^    level/{print}'; }
+for r in 1 2; do
+  for c in "$S/engraved_slab.json --tolerance 0.002" "$S/engraved_slab.json --brick-size 0.0625 --tolerance 0.008" \
+           "$S/grooved_board.json --tolerance 0.002" "$S/ground_trees.json --tolerance 0.002" "$S/steep_blends.json --tolerance 0.002" \
+           "scenes/board.json --brick-size 0.03125 --tolerance 0.001" "scenes/drops.json --brick-size 0.03125 --tolerance 0.001" \
+           "scenes/board.json --tolerance 0.004" "scenes/drops.json --tolerance 0.004"; do
+    for b in sdfbrick-exp sdfbrick-new; do
+      echo "$r $b $c: $(timeout 60 .device/bin/$b -d gpu build $c $X 2>&1 | ev)"; done
+  done
+  for c in "$S/engraved_slab.json --brick-size 0.015625" "$S/engraved_slab.json --brick-size 0.0625"; do
+    echo "$r uniform $c: $(timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X 2>&1 | ev)"; done
+done
+for c in "$S/engraved_slab.json --tolerance 0.002" "$S/engraved_slab.json --brick-size 0.0625 --tolerance 0.008"; do
+  echo "== new $c"; timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X --kernel-stats 2>&1 | ks
+done
+for r in 1 2; do for c in "scenes/drops.json --brick-size 0.0625" "scenes/sculpt_dense.json --brick-size 0.0625"; do
+  echo "$r uniform $c: $(timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X 2>&1 | grep -oE 'evaluate [0-9.]+|count [0-9.]+|cull [0-9.]+|total [0-9.]+ ms|wall [0-9.]+|^  digest [0-9a-f]+' | tr '\n' ' ')"; done; done
+echo "elapsed $SECONDS s"
