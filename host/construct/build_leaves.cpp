@@ -3,18 +3,23 @@
 #include <algorithm>
 
 #include "cl/launch.h"
-#include "measure/kernel_attributes.h"
 #include "measure/occupancy.h"
 
 namespace sdfbrick::construct::detail {
+
+bool fills_few_waves(const ocl::DeviceInfo& device, const measure::KernelAttributes& k, std::size_t group,
+                     std::uint64_t groups) {
+    if (device.type != "gpu") return false;
+    const measure::Occupancy o = measure::occupancy(device, k, group, groups);
+    return o.waves && *o.waves <= 2.0;
+}
 
 bool fills_few_waves(const ocl::Device& device, cl_kernel kernel, std::uint64_t unset_local_bytes, std::size_t group,
                      std::uint64_t groups) {
     if (device.info().type != "gpu") return false;
     measure::KernelAttributes k = measure::kernel_attributes(device, kernel);
     k.local_mem_bytes += unset_local_bytes;
-    const measure::Occupancy o = measure::occupancy(device.info(), k, group, groups);
-    return o.waves && *o.waves <= 2.0;
+    return fills_few_waves(device.info(), k, group, groups);
 }
 
 namespace {

@@ -30,6 +30,7 @@
 #include "construct/edit_deps.h"
 #include "construct/scan.h"
 #include "core/errors.h"
+#include "measure/kernel_attributes.h"
 #include "measure/scheduler.h"
 #include "scene/scene.h"
 #include "sdf_types.h"
@@ -432,6 +433,9 @@ private:
 // of brick_check) took 0.086 -> 0.060 ms to evaluate and 0.128 -> 0.100 to check; levels of 9.9 waves
 // and more were 13-27% slower with the wider groups. Changes no bit.
 bool fills_few_waves(const ocl::Device& device, cl_kernel kernel, std::uint64_t unset_local_bytes, std::size_t group,
+                     std::uint64_t groups);
+// The same from the device's description and the kernel's attributes (local memory included).
+bool fills_few_waves(const ocl::DeviceInfo& device, const measure::KernelAttributes& k, std::size_t group,
                      std::uint64_t groups);
 
 // The samples of `count` bricks (their records and lists) into pool, as brick_evaluate stores them;

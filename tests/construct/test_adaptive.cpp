@@ -428,6 +428,44 @@ TEST(ConstructAdaptive, NoLeafCandidateIsKeptUntested) {
     EXPECT_EQ(untested_from(2, true, 5, false, 16), 16u) << "as asked, a CPU";
 }
 
+TEST(ConstructAdaptive, OnlyLevelsOfFewCandidatesWidenTheCheck) {
+    using construct::detail::fills_few_waves;
+    // An H100 and brick_check as NVIDIA compiles it: 128 work-items, 54 registers, 23,348 bytes of
+    // local memory, so 9 work-groups a compute unit and 1,188 a wave.
+    ocl::DeviceInfo h100;
+    h100.type = "gpu";
+    h100.compute_units = 132;
+    h100.local_mem_bytes = 48 * 1024;
+    h100.local_mem_type = "local";
+    h100.nv_compute_capability_major = 9;
+    h100.nv_compute_capability_minor = 0;
+    h100.nv_warp_size = 32;
+    const measure::KernelAttributes check{.kernel = "brick_check",
+                                          .work_group_size_limit = 1024,
+                                          .preferred_multiple = 32,
+                                          .local_mem_bytes = 23348,
+                                          .private_mem_bytes = 0,
+                                          .registers = 54,
+                                          .spill_store_bytes = std::nullopt,
+                                          .spill_load_bytes = std::nullopt};
+    EXPECT_TRUE(fills_few_waves(h100, check, 128, 1232));    // engraved_slab's level 3: 1.04 waves
+    EXPECT_TRUE(fills_few_waves(h100, check, 128, 2376));    // two waves
+    EXPECT_FALSE(fills_few_waves(h100, check, 128, 2377));
+    EXPECT_FALSE(fills_few_waves(h100, check, 128, 11740));  // its level 4: 9.9 waves
+    // Where the model does not know the residency (no register count, another vendor, a CPU),
+    // nothing widens.
+    measure::KernelAttributes unknown = check;
+    unknown.registers = std::nullopt;
+    EXPECT_FALSE(fills_few_waves(h100, unknown, 128, 10));
+    ocl::DeviceInfo other = h100;
+    other.nv_compute_capability_major.reset();
+    other.nv_compute_capability_minor.reset();
+    EXPECT_FALSE(fills_few_waves(other, check, 128, 10));
+    ocl::DeviceInfo cpu = h100;
+    cpu.type = "cpu";
+    EXPECT_FALSE(fills_few_waves(cpu, check, 8, 10));
+}
+
 TEST(ConstructAdaptive, RefusesBadTolerances) {
     const Geometry g = shipped_geometry("spheres");
     for (double t : {-1.0, std::nan(""), double(INFINITY)}) {
