@@ -38,6 +38,19 @@ void set_env(const std::string& name, const std::optional<std::string>& value) {
 
 }  // namespace
 
+ocl::DeviceInfo nvidia_h100_info() {
+    ocl::DeviceInfo d;
+    d.name = "NVIDIA H100 80GB HBM3";
+    d.type = "gpu";
+    d.compute_units = 132;
+    d.local_mem_bytes = 48 * 1024;
+    d.local_mem_type = "local";
+    d.nv_compute_capability_major = 9;
+    d.nv_compute_capability_minor = 0;
+    d.nv_warp_size = 32;
+    return d;
+}
+
 ocl::DeviceSet open_test_devices() {
     const char* spec = std::getenv(kTestDeviceEnv);
     return ocl::DeviceSet::open(spec != nullptr && *spec != '\0' ? spec : "cpu");

@@ -25,6 +25,10 @@ ocl::DeviceSet open_test_devices();
 // A new launch recorder on device() for one call of a builder or tracer (the previous one is dropped).
 measure::Scheduler& recorder();
 
+// The description of an NVIDIA H100 (132 compute units, compute capability 9.0) as the occupancy
+// model reads it, for tests of rules that depend on it without the device.
+ocl::DeviceInfo nvidia_h100_info();
+
 // A fresh, empty directory SDFBRICK_TEST_TMP/name (removed first if it exists).
 std::filesystem::path temp_dir(std::string_view name);
 

@@ -432,14 +432,7 @@ TEST(ConstructAdaptive, OnlyLevelsOfFewCandidatesWidenTheCheck) {
     using construct::detail::fills_few_waves;
     // An H100 and brick_check as NVIDIA compiles it: 128 work-items, 54 registers, 23,348 bytes of
     // local memory, so 9 work-groups a compute unit and 1,188 a wave.
-    ocl::DeviceInfo h100;
-    h100.type = "gpu";
-    h100.compute_units = 132;
-    h100.local_mem_bytes = 48 * 1024;
-    h100.local_mem_type = "local";
-    h100.nv_compute_capability_major = 9;
-    h100.nv_compute_capability_minor = 0;
-    h100.nv_warp_size = 32;
+    const ocl::DeviceInfo h100 = test::nvidia_h100_info();
     const measure::KernelAttributes check{.kernel = "brick_check",
                                           .work_group_size_limit = 1024,
                                           .preferred_multiple = 32,

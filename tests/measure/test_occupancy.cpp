@@ -153,18 +153,7 @@ TEST(MeasureOccupancy, UnknownComputeCapability) {
 
 // ------------------------------------------------------------------------------- occupancy()
 
-ocl::DeviceInfo nvidia_h100() {
-    ocl::DeviceInfo d;
-    d.name = "NVIDIA H100 80GB HBM3";
-    d.type = "gpu";
-    d.compute_units = 132;
-    d.local_mem_bytes = 48 * 1024;
-    d.local_mem_type = "local";
-    d.nv_compute_capability_major = 9;
-    d.nv_compute_capability_minor = 0;
-    d.nv_warp_size = 32;
-    return d;
-}
+ocl::DeviceInfo nvidia_h100() { return test::nvidia_h100_info(); }
 
 KernelAttributes attributes(std::uint64_t local_bytes, std::optional<int> registers) {
     return KernelAttributes{.kernel = "k",
