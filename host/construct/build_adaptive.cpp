@@ -35,10 +35,10 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     // Its chunk: the evaluation's, or as much as the device's local memory holds beside the check's
     // own arrays (about 22 KB for 8^3 samples, 28 KB for 10^3) and the work-group's worst errors.
     // The fold is in list order whatever the chunk: no bit depends on it.
+    const std::uint64_t own_local = ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check");
     const auto chunk_for = [&](std::size_t g) {
         return staged_chunk(static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
-                            ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check") + g * sizeof(float),
-                            sizeof(SdfPrepared));
+                            own_local + g * sizeof(float), sizeof(SdfPrepared));
     };
     std::size_t chunk = chunk_for(group);
     if (chunk > 0 && group * 2 <= limit && chunk_for(group * 2) > 0 &&

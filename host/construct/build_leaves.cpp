@@ -23,13 +23,14 @@ bool fills_few_waves(const ocl::Device& device, cl_kernel kernel, std::uint64_t 
 }
 
 namespace {
-// brick_evaluate with its arguments set, for work-groups of `group` work-items (see evaluate_samples).
-ocl::Kernel evaluation_kernel(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, const ocl::Buffer<cl_uint>& lists,
-                              const ocl::Buffer<cl_uint>* owned, const ocl::Buffer<float>& level_clamp,
-                              ocl::Buffer<std::uint8_t>& pool, std::size_t group) {
-    const BrickLayout layout = in.settings.layout();
+// brick_evaluate's build options but PER_ITEM, which follows the work-group (evaluate_samples), and
+// whether its work-items' skip test reads records in local memory.
+struct EvaluationOptions {
+    std::string defines;
+    bool records = false;
+};
+EvaluationOptions evaluation_options(const BuildInputs& in, const ocl::Buffer<cl_uint>* owned) {
     const auto lanes = static_cast<std::size_t>(in.settings.lanes(in.device.info()));
-    const std::size_t per_item = (layout.samples_per_brick() + group * lanes - 1) / (group * lanes);
     // The primitives and operations the edits use: the kernel compiles the folds of these alone (a
     // number past the masks' bits, never in a validated scene, keeps every fold). radial: a sphere
     // or capsule add or subtract among them; add_or_subtract: an add or subtract of any primitive.
@@ -48,22 +49,12 @@ ocl::Kernel evaluation_kernel(BuildInputs& in, const ocl::Buffer<SdfBrick>& bric
     const bool skip_far = in.settings.skip_far && (radial || (add_or_subtract && lanes == 1));
     // The work-item's skip test reads records in local memory with CPU lanes (BuildSettings::skip_records).
     const bool records = skip_far && radial && BuildSettings::skip_records(static_cast<int>(lanes));
-    const ocl::Program program = ocl::build_program(
-        in.device, "brick_evaluate.cl",
-        fmt::format("{} -DSDF_LANES={} -DPER_ITEM={} -DAPRON_SHARED={} -DSKIP_FAR={} "
-                    "-DSKIP_RECORDS={} -DEVAL_PRIMS={}u -DEVAL_OPS={}u",
-                    layout.defines(), lanes, per_item, owned ? 1 : 0, skip_far ? 1 : 0,
-                    records ? 1 : 0, prims, ops) +
-            ocl::register_cap_option(in.device.info(), in.settings.eval_registers));
-    ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
-    const std::size_t record_count = records ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1;  // float4 each
-    ocl::set_args(kernel.get(), in.prepared_edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints, in.origin.x,
-                  in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp, in.plan.band,
-                  layout.quantise_scale(in.plan.band), static_cast<cl_uint>(in.plan.finest()), in.plan.log2b, pool,
-                  ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfPrepared)},
-                  ocl::LocalMemory{record_count * sizeof(cl_float4)},
-                  static_cast<cl_uint>(in.settings.chunk));
-    return kernel;
+    return {fmt::format("{} -DSDF_LANES={} -DAPRON_SHARED={} -DSKIP_FAR={} -DSKIP_RECORDS={} -DEVAL_PRIMS={}u "
+                        "-DEVAL_OPS={}u",
+                        in.settings.layout().defines(), lanes, owned ? 1 : 0, skip_far ? 1 : 0, records ? 1 : 0,
+                        prims, ops) +
+                ocl::register_cap_option(in.device.info(), in.settings.eval_registers),
+            records};
 }
 }  // namespace
 
@@ -73,17 +64,32 @@ void evaluate_samples(BuildInputs& in, const ocl::Buffer<SdfBrick>& bricks, cons
                       std::uint64_t count, const ocl::Buffer<cl_uint>* owned, ocl::Buffer<std::uint8_t>& pool,
                       measure::Stage stage, int level) {
     if (count == 0) return;
+    const BrickLayout layout = in.settings.layout();
     const auto lanes = static_cast<std::size_t>(in.settings.lanes(in.device.info()));
-    const std::size_t most = (in.settings.layout().samples_per_brick() + lanes - 1) / lanes;  // values a brick
-    std::size_t group = std::min<std::size_t>(in.settings.eval_group, most);
+    const std::size_t most = (layout.samples_per_brick() + lanes - 1) / lanes;  // values a brick
+    const EvaluationOptions options = evaluation_options(in, owned);
     const ocl::Buffer<float> level_clamp(ocl::pooled, in.device, std::span<const float>(in.plan.level_clamp));
-    ocl::Kernel kernel = evaluation_kernel(in, bricks, lists, owned, level_clamp, pool, group);
+    const std::size_t record_count = options.records ? 2 * static_cast<std::size_t>(in.settings.chunk) : 1;  // float4 each
+    const auto kernel_for = [&](std::size_t group) {  // with its arguments set
+        const ocl::Program program = ocl::build_program(
+            in.device, "brick_evaluate.cl", fmt::format("{} -DPER_ITEM={}", options.defines, (most + group - 1) / group));
+        ocl::Kernel kernel = ocl::make_kernel(program, "brick_evaluate");
+        ocl::set_args(kernel.get(), in.prepared_edits, in.meshes, lists, bricks, owned ? *owned : in.empty_uints,
+                      in.origin.x, in.origin.y, in.origin.z, static_cast<float>(in.plan.voxel), level_clamp,
+                      in.plan.band, layout.quantise_scale(in.plan.band), static_cast<cl_uint>(in.plan.finest()),
+                      in.plan.log2b, pool,
+                      ocl::LocalMemory{static_cast<std::size_t>(in.settings.chunk) * sizeof(SdfPrepared)},
+                      ocl::LocalMemory{record_count * sizeof(cl_float4)}, static_cast<cl_uint>(in.settings.chunk));
+        return kernel;
+    };
+    std::size_t group = std::min<std::size_t>(in.settings.eval_group, most);
+    ocl::Kernel kernel = kernel_for(group);
     // The check's candidates at a level with few of them: twice the work-items a brick (fills_few_waves).
     if (stage == measure::Stage::check && group * 2 <= most &&
         group * 2 <= ocl::kernel_work_group_limit(in.device, kernel.get(), "brick_evaluate") &&
         fills_few_waves(in.device, kernel.get(), 0, group, count)) {
         group *= 2;
-        kernel = evaluation_kernel(in, bricks, lists, owned, level_clamp, pool, group);
+        kernel = kernel_for(group);
     }
     in.scheduler.launch(stage, level, kernel.get(), count * group, group);
 }

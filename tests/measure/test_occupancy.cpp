@@ -153,8 +153,6 @@ TEST(MeasureOccupancy, UnknownComputeCapability) {
 
 // ------------------------------------------------------------------------------- occupancy()
 
-ocl::DeviceInfo nvidia_h100() { return test::nvidia_h100_info(); }
-
 KernelAttributes attributes(std::uint64_t local_bytes, std::optional<int> registers) {
     return KernelAttributes{.kernel = "k",
                             .work_group_size_limit = 1024,
@@ -169,7 +167,7 @@ KernelAttributes attributes(std::uint64_t local_bytes, std::optional<int> regist
 TEST(MeasureOccupancy, NvidiaDeviceGivesWaves) {
     // 256 work-items, 40 registers, 16 KiB local: 6 blocks by registers; by local memory
     // 233472 / (16384 + 1024) = 13. Resident 6; 10000 groups / (132 x 6) = 12.626... waves.
-    const Occupancy o = occupancy(nvidia_h100(), attributes(16 * 1024, 40), 256, 10000);
+    const Occupancy o = occupancy(test::nvidia_h100_info(), attributes(16 * 1024, 40), 256, 10000);
     EXPECT_EQ(o.group_size, 256u);
     EXPECT_EQ(o.groups_per_cu_by_local, 13u);
     EXPECT_EQ(o.resident_groups_per_cu, 6u);
@@ -180,13 +178,13 @@ TEST(MeasureOccupancy, NvidiaDeviceGivesWaves) {
     EXPECT_NE(o.note.find("carveout"), std::string::npos);
 
     // Local memory the limit: 64 KiB + 1 KiB per group -> 3 groups -> 24 warps = 37.5 %.
-    const Occupancy local = occupancy(nvidia_h100(), attributes(64 * 1024, 32), 256, 10);
+    const Occupancy local = occupancy(test::nvidia_h100_info(), attributes(64 * 1024, 32), 256, 10);
     EXPECT_EQ(local.resident_groups_per_cu, 3u);
     EXPECT_EQ(local.limited_by, "local memory");
     EXPECT_DOUBLE_EQ(local.theoretical.value_or(-1), 0.375);
 
     // Without a register count, only the local-memory figure is known.
-    const Occupancy unknown = occupancy(nvidia_h100(), attributes(16 * 1024, std::nullopt), 256, 10000);
+    const Occupancy unknown = occupancy(test::nvidia_h100_info(), attributes(16 * 1024, std::nullopt), 256, 10000);
     EXPECT_EQ(unknown.groups_per_cu_by_local, 13u);
     EXPECT_FALSE(unknown.resident_groups_per_cu.has_value());
     EXPECT_FALSE(unknown.waves.has_value());
@@ -195,7 +193,7 @@ TEST(MeasureOccupancy, NvidiaDeviceGivesWaves) {
     EXPECT_NE(unknown.note.find("register count unknown"), std::string::npos);
 
     // An unknown compute capability: no theoretical occupancy; local memory from CL_DEVICE_LOCAL_MEM_SIZE.
-    ocl::DeviceInfo future = nvidia_h100();
+    ocl::DeviceInfo future = test::nvidia_h100_info();
     future.nv_compute_capability_major = 12;
     const Occupancy f = occupancy(future, attributes(16 * 1024, 40), 256, 10000);
     EXPECT_FALSE(f.theoretical.has_value());
