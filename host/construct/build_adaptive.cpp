@@ -12,6 +12,73 @@ namespace {
 cl_uint brick_words(const BrickLayout& layout) { return static_cast<cl_uint>(layout.brick_bytes() / 4); }
 }  // namespace
 
+// brick_check's work-group and staged chunk for a level of n candidates. The work-group changes no
+// bit: on GPUs 128 work-items, which fold a class's points with more of them at once. On the H200
+// (docs/measurements/roof/d11) engraved_slab's check took 1.19 ms with 128 against 1.43 with the
+// evaluation's tuned 64, and no hard case was slower; 256 was slower on five of the six scenes. On
+// CPUs, where a core runs a work-group's items one after another, 8: PoCL here
+// (docs/measurements/adaptive/c3/cg.txt) ran brick_check 3-20% faster than with the evaluation's tuned
+// 32 on every hard case, board and drops. A level with few candidates takes twice the work-items a
+// brick (fills_few_waves). The chunk: the evaluation's, or as much as the device's local memory holds
+// beside the check's own arrays (about 22 KB for 8^3 samples, 28 KB for 10^3) and the work-group's
+// worst errors. The fold is in list order whatever the chunk: no bit depends on it.
+AdaptiveLeaves::CheckShape AdaptiveLeaves::check_shape(const ocl::Kernel& kernel, std::uint64_t n) const {
+    constexpr std::size_t kCpuGroup = 8;
+    const BrickLayout layout = in_.settings.layout();
+    const std::size_t limit = ocl::kernel_work_group_limit(in_.device, kernel.get(), "brick_check");
+    CheckShape s;
+    s.group = in_.device.info().type == "gpu" ? std::min<std::size_t>(128, limit)
+                                              : std::min<std::size_t>(kCpuGroup, layout.samples_per_brick());
+    const std::uint64_t own_local = ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check");
+    const auto chunk_for = [&](std::size_t g) {
+        return staged_chunk(static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
+                            own_local + g * sizeof(float), sizeof(SdfPrepared));
+    };
+    s.chunk = chunk_for(s.group);
+    if (s.chunk > 0 && s.group * 2 <= limit && chunk_for(s.group * 2) > 0 &&
+        fills_few_waves(in_.device, kernel.get(), s.group * sizeof(float) + s.chunk * sizeof(SdfPrepared), s.group,
+                        n)) {
+        s.group *= 2;
+        s.chunk = chunk_for(s.group);
+    }
+    if (s.chunk == 0)
+        throw SettingError("samples", fmt::format("the adaptive check of {}^3 samples needs more local memory than {} "
+                                                  "has ({} bytes): use 8 samples or a uniform build",
+                                                  layout.samples, in_.device.info().name,
+                                                  in_.device.info().local_mem_bytes));
+    return s;
+}
+
+// What the check of one level reads. Where culling again pays (long lists on CPUs), the bricks' lists
+// are culled for their children first, and the count reads the shorter lists (engraved_slab, PoCL, 2
+// cores: count 63.3 -> 35.1 ms against 29.9 uniform); the check and the leaves keep the records and
+// lists they had. At the last checked level, the children each brick has among the finest bricks: the
+// finest level's count runs before the check, over every brick, on a copy that the parents are taken
+// from (so the next count only adds up their masks).
+AdaptiveLeaves::Candidates AdaptiveLeaves::candidates(int level, Levels& levels, float window) const {
+    const std::uint64_t n = levels.parent_count();
+    Candidates c(levels);
+    c.last = level + 1 == in_.plan.finest();
+    if (c.last && in_.settings.cull && levels.recull_pays(level)) {
+        c.own_records.emplace(allocate<SdfBrick>(in_.device, n, "the checked bricks' records"));
+        c.own_records->copy_from(levels.parents());
+        c.own_lists = levels.recull(level);
+    }
+    // With hard edits only, clamping commutes with min and max: F_C clamped to +-window is F_{C_l}
+    // clamped to it, bit for bit, wherever C >= window. So where the lists were culled again for C,
+    // the check's points fold those shorter lists with C (the samples keep the bricks' own lists).
+    c.short_folds = c.own_lists && in_.plan.hard && in_.plan.clamp_c >= window &&
+                    in_.plan.clamp_c >= 0.5f * in_.plan.tolerance;
+    c.fold_clamp = c.short_folds ? in_.plan.clamp_c : in_.plan.level_clamp[level];
+    if (c.last) {
+        c.counted.emplace(allocate<SdfBrick>(in_.device, n, "the counted bricks"));
+        c.children.emplace(allocate<cl_uint>(in_.device, n, "the checked bricks' child counts"));
+        c.counted->copy_from(levels.parents());
+        levels.count_children(level, *c.counted, *c.children);
+    }
+    return c;
+}
+
 // The check of one level coarser than the finest (brick_check.cl), then the split of its bricks
 // into leaves and parents by the scan of the results (brick_split).
 std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
@@ -21,36 +88,7 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
         in_.device, "brick_check.cl",
         fmt::format("{} -DSDF_LANES={}", layout.defines(), in_.settings.lanes(in_.device.info())));
     const ocl::Kernel kernel = ocl::make_kernel(program, "brick_check");
-    // The check's work-group (changes no bit): on GPUs 128 work-items, which fold a class's points
-    // with more of them at once. On the H200 (docs/measurements/roof/d11) engraved_slab's check took
-    // 1.19 ms with 128 against 1.43 with the evaluation's tuned 64, and no hard case was slower; 256
-    // was slower on five of the six scenes. On CPUs, where a core runs a work-group's items one after
-    // another, 8: PoCL here (docs/measurements/adaptive/c3/cg.txt) ran brick_check 3-20% faster than
-    // with the evaluation's tuned 32 on every hard case, board and drops.
-    // A level with few candidates takes twice the work-items a brick (fills_few_waves).
-    constexpr std::size_t kCpuGroup = 8;
-    const std::size_t limit = ocl::kernel_work_group_limit(in_.device, kernel.get(), "brick_check");
-    std::size_t group = in_.device.info().type == "gpu" ? std::min<std::size_t>(128, limit)
-                                                        : std::min<std::size_t>(kCpuGroup, layout.samples_per_brick());
-    // Its chunk: the evaluation's, or as much as the device's local memory holds beside the check's
-    // own arrays (about 22 KB for 8^3 samples, 28 KB for 10^3) and the work-group's worst errors.
-    // The fold is in list order whatever the chunk: no bit depends on it.
-    const std::uint64_t own_local = ocl::kernel_local_bytes(in_.device, kernel.get(), "brick_check");
-    const auto chunk_for = [&](std::size_t g) {
-        return staged_chunk(static_cast<std::size_t>(in_.settings.chunk), in_.device.info().local_mem_bytes,
-                            own_local + g * sizeof(float), sizeof(SdfPrepared));
-    };
-    std::size_t chunk = chunk_for(group);
-    if (chunk > 0 && group * 2 <= limit && chunk_for(group * 2) > 0 &&
-        fills_few_waves(in_.device, kernel.get(), group * sizeof(float) + chunk * sizeof(SdfPrepared), group, n)) {
-        group *= 2;
-        chunk = chunk_for(group);
-    }
-    if (chunk == 0)
-        throw SettingError("samples", fmt::format("the adaptive check of {}^3 samples needs more local memory than {} "
-                                                  "has ({} bytes): use 8 samples or a uniform build",
-                                                  layout.samples, in_.device.info().name,
-                                                  in_.device.info().local_mem_bytes));
+    const CheckShape shape = check_shape(kernel, n);
     LevelLeaves out{level,
                     0,
                     nullptr,
@@ -63,51 +101,20 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     // Errors count within one voxel of this level of the surface (at least the finest band): every
     // surface point then has check points on both sides within the window.
     const float window = std::max(in_.plan.band, voxel);
-    // At the last checked level, the children each brick has among the finest bricks: the finest
-    // level's count runs before the check, over every brick, on a copy that the parents are taken
-    // from (so the next count only adds up their masks). A brick with fewer than two fails unchecked:
-    // as a leaf it would stand for one finest brick or none (its band reaches past its cell), which
-    // saves nothing, so no check is spent on it.
-    // Where culling again pays (long lists on CPUs), the bricks' lists are culled for their children
-    // first, and the count reads the shorter lists (engraved_slab, PoCL, 2 cores: count 63.3 -> 35.1 ms
-    // against 29.9 uniform); the check and the leaves keep the records and lists they had.
-    const bool last = level + 1 == in_.plan.finest();
-    std::optional<ocl::Buffer<SdfBrick>> own_records;
-    std::unique_ptr<ocl::Buffer<cl_uint>> own_lists;
-    if (last && in_.settings.cull && levels.recull_pays(level)) {
-        own_records.emplace(allocate<SdfBrick>(in_.device, n, "the checked bricks' records"));
-        own_records->copy_from(levels.parents());
-        own_lists = levels.recull(level);
-    }
-    const ocl::Buffer<SdfBrick>& bricks = own_records ? *own_records : levels.parents();
-    const ocl::Buffer<cl_uint>& lists = own_lists ? *own_lists : levels.lists();
-    // With hard edits only, clamping commutes with min and max: F_C clamped to +-window is F_{C_l}
-    // clamped to it, bit for bit, wherever C >= window. So where the lists were culled again for C,
-    // the check's points fold those shorter lists with C (the samples keep the bricks' own lists).
-    const bool short_folds = own_lists && in_.plan.hard && in_.plan.clamp_c >= window &&
-                             in_.plan.clamp_c >= 0.5f * in_.plan.tolerance;
-    const ocl::Buffer<SdfBrick>& fold_bricks = short_folds ? levels.parents() : bricks;
-    const ocl::Buffer<cl_uint>& fold_lists = short_folds ? levels.lists() : lists;
-    const float fold_clamp = short_folds ? in_.plan.clamp_c : in_.plan.level_clamp[level];
-    std::optional<ocl::Buffer<SdfBrick>> counted;
-    std::optional<ocl::Buffer<cl_uint>> children;
-    if (last) {
-        counted.emplace(allocate<SdfBrick>(in_.device, n, "the counted bricks"));
-        children.emplace(allocate<cl_uint>(in_.device, n, "the checked bricks' child counts"));
-        counted->copy_from(levels.parents());
-        levels.count_children(level, *counted, *children);
-    }
-    const cl_uint min_children = last ? 2u : 0u;
-    // Those and the bricks that reach a thin edit fail first, and their copies in `masked` have no
-    // edits; the others' samples come from the evaluation, which the check compares with the field.
+    Candidates c = candidates(level, levels, window);
+    // A brick with fewer than two children among the finest bricks fails unchecked: as a leaf it would
+    // stand for one finest brick or none (its band reaches past its cell), which saves nothing. Those
+    // and the bricks that reach a thin edit fail first, and their copies in `masked` have no edits;
+    // the others' samples come from the evaluation, which the check compares with the field.
+    const cl_uint min_children = c.last ? 2u : 0u;
     ocl::Buffer<SdfBrick> masked = allocate<SdfBrick>(in_.device, n, "the checked bricks");
     const ocl::Kernel thin = ocl::make_kernel(program, "brick_thin");
     // A brick whose field is a plane over its samples passes with half a quantisation step and the
     // rounding as its error, where that cannot fail it (brick_thin).
     const float dequant = layout.dequantise_scale(band);
-    ocl::set_args(thin.get(), in_.edits, in_.meshes, lists, bricks, in_.origin.x, in_.origin.y,
+    ocl::set_args(thin.get(), in_.edits, in_.meshes, c.lists(), c.bricks(), in_.origin.x, in_.origin.y,
                   in_.origin.z, voxel, window, static_cast<float>(in_.plan.domain.cell_size(level)),
-                  in_.plan.cull_radius(level), children ? *children : in_.empty_uints, min_children,
+                  in_.plan.cull_radius(level), c.children ? *c.children : in_.empty_uints, min_children,
                   dequant, band, in_.plan.tolerance, masked, out.passed, out.errors);
     // A CPU core runs a work-group's items one after another, mostly idle on short lists: 16 of them
     // there (PoCL here: brick_thin 0.40 -> 0.18 ms a build on board, 2.0 -> 1.6 on engraved_slab).
@@ -115,13 +122,29 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     const std::size_t thin_group = in_.device.info().type == "gpu" ? kGroup1d : 16;
     in_.scheduler.launch(measure::Stage::check, level, thin.get(), n * thin_group, thin_group);
     ocl::Buffer<std::uint8_t> samples = allocate<std::uint8_t>(in_.device, n * layout.brick_bytes(), "the checked samples");
-    evaluate_samples(in_, masked, lists, n, nullptr, samples, measure::Stage::check, level);
-    ocl::set_args(kernel.get(), in_.prepared_edits, in_.meshes, fold_lists, fold_bricks, samples, in_.origin.x,
-                  in_.origin.y, in_.origin.z, voxel, fold_clamp, band, dequant,
-                  in_.plan.tolerance, window, out.errors, out.passed,
-                  ocl::LocalMemory{group * sizeof(float)},
-                  ocl::LocalMemory{chunk * sizeof(SdfPrepared)}, static_cast<cl_uint>(chunk));
-    in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * group, group);
+    evaluate_samples(in_, masked, c.lists(), n, nullptr, samples, measure::Stage::check, level);
+    ocl::set_args(kernel.get(), in_.prepared_edits, in_.meshes, c.fold_lists(), c.fold_bricks(), samples,
+                  in_.origin.x, in_.origin.y, in_.origin.z, voxel, c.fold_clamp, band, dequant, in_.plan.tolerance,
+                  window, out.errors, out.passed, ocl::LocalMemory{shape.group * sizeof(float)},
+                  ocl::LocalMemory{shape.chunk * sizeof(SdfPrepared)}, static_cast<cl_uint>(shape.chunk));
+    in_.scheduler.launch(measure::Stage::check, level, kernel.get(), n * shape.group, shape.group);
+    const auto bytes_of = [](const auto& buffer) -> std::uint64_t { return buffer ? buffer->bytes() : 0; };
+    const std::uint64_t scratch = samples.bytes() + masked.bytes() + bytes_of(c.counted) + bytes_of(c.children) +
+                                  bytes_of(c.own_records);
+    split(levels, out, c, samples);
+    levels.bytes.scratch = std::max<std::uint64_t>(levels.bytes.scratch, scratch + kept_bytes_);
+    if (c.own_lists) out.lists = std::move(c.own_lists);
+    checked_.push_back(std::move(out));
+    return n - checked_.back().count;
+}
+
+// The scan of the check's results, the split of the candidates into this level's leaves and the next
+// level's parents, and the leaves' samples kept (the leaf evaluation puts them instead of evaluating
+// them).
+void AdaptiveLeaves::split(Levels& levels, LevelLeaves& out, const Candidates& c,
+                           const ocl::Buffer<std::uint8_t>& samples) {
+    const std::uint64_t n = levels.parent_count();
+    const int level = out.level;
     ocl::Buffer<cl_uint>& offsets = levels.offsets(n, "the leaf offsets");
     out.count = in_.scan.exclusive(out.passed, offsets, n, in_.scheduler, measure::Stage::check, level);
     out.leaves = std::make_unique<ocl::Buffer<SdfBrick>>(
@@ -129,10 +152,11 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
     auto parents = std::make_unique<ocl::Buffer<SdfBrick>>(
         allocate<SdfBrick>(in_.device, n - out.count, fmt::format("the parents of level {}", level + 1)));
     const auto& k = in_.programs;
-    ocl::set_args(k.split_k.get(), bricks, counted ? *counted : bricks, static_cast<cl_uint>(n),
+    ocl::set_args(k.split_k.get(), c.bricks(), c.counted ? *c.counted : c.bricks(), static_cast<cl_uint>(n),
                   out.passed, offsets, *out.leaves, *parents);
     in_.scheduler.launch(measure::Stage::check, level, k.split_k.get(), round_up(n, kGroup1d), kGroup1d);
-    if (out.count > 0) {  // the leaves' samples: the leaf evaluation puts them instead of evaluating them
+    if (out.count > 0) {
+        const BrickLayout layout = in_.settings.layout();
         out.samples = std::make_unique<ocl::Buffer<std::uint8_t>>(allocate<std::uint8_t>(
             in_.device, out.count * layout.brick_bytes(), fmt::format("the samples of the leaves of level {}", level)));
         ocl::set_args(k.keep_k.get(), samples, out.passed, offsets, static_cast<cl_uint>(n), brick_words(layout),
@@ -140,17 +164,9 @@ std::uint64_t AdaptiveLeaves::check_and_split(int level, Levels& levels) {
         in_.scheduler.launch(measure::Stage::check, level, k.keep_k.get(), n * kGroup1d, kGroup1d);
         kept_bytes_ += out.samples->bytes();
     }
-    const auto bytes_of = [](const auto& buffer) -> std::uint64_t { return buffer ? buffer->bytes() : 0; };
-    levels.bytes.scratch =
-        std::max<std::uint64_t>(levels.bytes.scratch, samples.bytes() + masked.bytes() + bytes_of(counted) +
-                                                          bytes_of(children) + bytes_of(own_records) + kept_bytes_);
     levels.bytes.bricks += out.leaves->bytes() + parents->bytes();
     levels.set_parents(std::move(parents));
-    if (last) levels.parents_counted();
-    const std::uint64_t left = n - out.count;
-    if (own_lists) out.lists = std::move(own_lists);
-    checked_.push_back(std::move(out));
-    return left;
+    if (c.last) levels.parents_counted();
 }
 
 std::uint64_t AdaptiveLeaves::assemble(Levels& levels) {

@@ -416,6 +416,31 @@ private:
         std::unique_ptr<ocl::Buffer<cl_uint>> lists;
         std::unique_ptr<ocl::Buffer<std::uint8_t>> samples;  // the leaves' samples, as the check evaluated them
     };
+    struct CheckShape {
+        std::size_t group = 0;  // brick_check's work-items a brick
+        std::size_t chunk = 0;  // edits staged at once
+    };
+    CheckShape check_shape(const ocl::Kernel& kernel, std::uint64_t n) const;
+    // One level's candidates as the check reads them: their records and lists (re-culled copies
+    // where that pays), the records and lists its points fold, and at the last checked level their
+    // counted copies and child counts.
+    struct Candidates {
+        explicit Candidates(Levels& l) : levels(l) {}
+        Levels& levels;
+        bool last = false;         // the last checked level (the next is the finest)
+        bool short_folds = false;  // the points fold the re-culled lists
+        float fold_clamp = 0.0f;
+        std::optional<ocl::Buffer<SdfBrick>> own_records;
+        std::unique_ptr<ocl::Buffer<cl_uint>> own_lists;
+        std::optional<ocl::Buffer<SdfBrick>> counted;
+        std::optional<ocl::Buffer<cl_uint>> children;
+        const ocl::Buffer<SdfBrick>& bricks() const { return own_records ? *own_records : levels.parents(); }
+        const ocl::Buffer<cl_uint>& lists() const { return own_lists ? *own_lists : levels.lists(); }
+        const ocl::Buffer<SdfBrick>& fold_bricks() const { return short_folds ? levels.parents() : bricks(); }
+        const ocl::Buffer<cl_uint>& fold_lists() const { return short_folds ? levels.lists() : lists(); }
+    };
+    Candidates candidates(int level, Levels& levels, float window) const;
+    void split(Levels& levels, LevelLeaves& out, const Candidates& c, const ocl::Buffer<std::uint8_t>& samples);
     BuildInputs& in_;
     std::vector<LevelLeaves> checked_;  // the checked levels (and the finest), coarsest first
     std::unique_ptr<ocl::Buffer<SdfBrick>> merged_, evaluated_;
