@@ -947,28 +947,7 @@ py::list devices(const py::object& device) {
     return out;
 }
 
-}  // namespace
-
-}  // namespace sdfbrick::python
-
-PYBIND11_MODULE(sdfbrick, m) {
-    using namespace sdfbrick;
-    using namespace sdfbrick::python;
-    m.doc() = "sdfbrick: sparse signed-distance-field bricks from CSG edit lists, on any OpenCL device";
-    m.attr("__version__") = SDFBRICK_VERSION;
-
-    static py::exception<InputError> input(m, "InputError", PyExc_ValueError);
-    static py::exception<ocl::ClError> device(m, "DeviceError", PyExc_RuntimeError);
-    input.doc() = "Bad input: a scene, a setting, a device name. The message is the CLI's one line.";
-    device.doc() = "A device failure (an OpenCL error). The message is the CLI's one line.";
-    input_error = input.ptr();
-    device_error = device.ptr();
-    py::register_exception_translator(translate);
-
-    m.def("devices", &devices, py::arg("device") = py::none(),
-          "Every OpenCL device as a dict (the fields of `sdfbrick devices --json`); \"selected\" marks those the "
-          "device spec selects (None: $SDFBRICK_DEVICE, else the default).");
-
+void bind_scene(py::module_& m) {
     py::class_<PyScene>(m, "Scene", "A scene: objects that instance geometries, each an ordered list of CSG edits.")
         .def_static("load", &PyScene::load, py::arg("path"), "Reads a scene file (JSON, docs/scene-format.md).")
         .def_static("from_dict", &PyScene::from_dict, py::arg("d"), py::arg("base") = py::none(),
@@ -1000,7 +979,9 @@ PYBIND11_MODULE(sdfbrick, m) {
             return fmt::format("<sdfbrick.Scene {} ({} geometries, {} objects{})>", quoted_input(s.scene->name),
                                s.scene->geometries.size(), s.scene->objects.size(), s.file ? ", from " + *s.file : "");
         });
+}
 
+void bind_render_result(py::module_& m) {
     py::class_<RenderResult>(m, "RenderResult", "What Context.render gives: the report and the pictures as arrays.")
         .def_readonly("report", &RenderResult::report, "The report (the schema of `sdfbrick render --json`).")
         .def_readonly("image", &RenderResult::image, "The picture of the mode, float32 H x W x 3 (a view, no copy).")
@@ -1012,7 +993,9 @@ PYBIND11_MODULE(sdfbrick, m) {
         .def_readonly("difference_image", &RenderResult::difference_image, "compare=True: the difference picture.")
         .def_property_readonly("accuracy", [](const RenderResult& r) { return r.report.attr("get")("accuracy"); },
                                "compare=True: the accuracy figures against the reference (report[\"accuracy\"]).");
+}
 
+void bind_context(py::module_& m) {
     py::class_<Context>(m, "Context",
                         "Opened devices and an executor over them; its lanes keep their programs, memory and image "
                         "buffers from call to call. One call at a time runs on the devices.")
@@ -1056,4 +1039,31 @@ PYBIND11_MODULE(sdfbrick, m) {
              "repeat, warmup, width, height, and the build's keyword arguments). Returns the report of `sdfbrick tune "
              "--json`; save=True also writes the winners to the context's tuning database, which later calls use. "
              "progress: called with each line `sdfbrick tune` prints.");
+}
+
+}  // namespace
+
+}  // namespace sdfbrick::python
+
+PYBIND11_MODULE(sdfbrick, m) {
+    using namespace sdfbrick;
+    using namespace sdfbrick::python;
+    m.doc() = "sdfbrick: sparse signed-distance-field bricks from CSG edit lists, on any OpenCL device";
+    m.attr("__version__") = SDFBRICK_VERSION;
+
+    static py::exception<InputError> input(m, "InputError", PyExc_ValueError);
+    static py::exception<ocl::ClError> device(m, "DeviceError", PyExc_RuntimeError);
+    input.doc() = "Bad input: a scene, a setting, a device name. The message is the CLI's one line.";
+    device.doc() = "A device failure (an OpenCL error). The message is the CLI's one line.";
+    input_error = input.ptr();
+    device_error = device.ptr();
+    py::register_exception_translator(translate);
+
+    m.def("devices", &devices, py::arg("device") = py::none(),
+          "Every OpenCL device as a dict (the fields of `sdfbrick devices --json`); \"selected\" marks those the "
+          "device spec selects (None: $SDFBRICK_DEVICE, else the default).");
+
+    bind_scene(m);
+    bind_render_result(m);
+    bind_context(m);
 }

@@ -1,10 +1,10 @@
 #!/bin/bash
 # d80: the adaptive check's levels with few candidates (at most two waves by the occupancy model) with
 # twice the work-items a brick, in the candidates' evaluation and in brick_check. old: 948f9e9's
-# behaviour (d79's experimental binary, no variables set); new: da433d9. Two rounds of 10
+# behaviour (d79's experimental binary, no variables set); new: ad692b7. Two rounds of 10
 # captures, in turn, with the uniform builds at the finest size beside them; then per-level stats.
-# Prepared 2026-12-07 (sixth session); not run yet: no device machine came after d79. Needs
-# .device/bin/sdfbrick-exp (d79-groups.diff on 948f9e9) and .device/bin/sdfbrick-new (da433d9 or later).
+# Prepared 2026-12-07, run 2026-12-08. Needs
+# .device/bin/sdfbrick-exp (d79-groups.diff on 948f9e9) and .device/bin/sdfbrick-new (ad692b7).
 source .device/env.sh
 export SDFBRICK_CACHE_DIR=/tmp/sdfcache
 GPU=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader); echo "$GPU"
@@ -29,3 +29,13 @@ done
 for r in 1 2; do for c in "scenes/drops.json --brick-size 0.0625" "scenes/sculpt_dense.json --brick-size 0.0625"; do
   echo "$r uniform $c: $(timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X 2>&1 | grep -oE 'evaluate [0-9.]+|count [0-9.]+|cull [0-9.]+|total [0-9.]+ ms|wall [0-9.]+|^  digest [0-9a-f]+' | tr '\n' ' ')"; done; done
 echo "elapsed $SECONDS s"
+# Where the adaptive build's time goes beside the check: every kernel, uniform against adaptive.
+for c in "$S/engraved_slab.json --brick-size 0.0625" "$S/engraved_slab.json --brick-size 0.0625 --tolerance 0.008"; do
+  echo "== all kernels, new $c"; timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X --kernel-stats 2>&1 | grep -vE '^    level'
+done
+# On an H200 only: the evaluation's entry searched again with these kernels (as d64 on the H100).
+if echo "$GPU" | grep -q H200; then
+  timeout 330 .device/bin/sdfbrick-new -d gpu --tuning-db /tmp/tuned.json tune scenes/drops.json scenes/rubble.json \
+    scenes/sculpt_dense.json --brick-size 0.0625 --kernels evaluate --strategy full --repeat 3 --warmup 1 --json $OUT/d80-tune.json
+  echo "elapsed $SECONDS s"
+fi
