@@ -114,6 +114,25 @@ std::optional<CudaOccupancy> cuda_occupancy(const CudaOccupancyInputs& in) {
     return r;
 }
 
+namespace {
+// The work-groups a compute unit holds by their local memory (none when it uses none or when the
+// device emulates local memory in global memory).
+std::optional<std::uint64_t> groups_by_local(const ocl::DeviceInfo& device, const CudaSmLimits* sm,
+                                             std::uint64_t local_bytes, std::vector<std::string>& notes) {
+    if (local_bytes == 0) {
+        notes.push_back("no local memory used");
+        return std::nullopt;
+    }
+    if (sm != nullptr) return static_cast<std::uint64_t>(blocks_by_shared_memory(*sm, local_bytes));
+    if (device.amd_local_mem_per_compute_unit) return *device.amd_local_mem_per_compute_unit / local_bytes;
+    if (device.local_mem_type == "local") return device.local_mem_bytes / local_bytes;
+    notes.push_back(fmt::format("local memory is emulated in global memory on this device (local memory "
+                                "type \"{}\"): no per-compute-unit limit",
+                                device.local_mem_type));
+    return std::nullopt;
+}
+}  // namespace
+
 Occupancy occupancy(const ocl::DeviceInfo& device, const KernelAttributes& k, std::size_t group_size,
                     std::uint64_t groups_total) {
     Occupancy o;
@@ -137,20 +156,7 @@ Occupancy occupancy(const ocl::DeviceInfo& device, const KernelAttributes& k, st
         }
     }
 
-    if (o.local_bytes == 0) {
-        notes.push_back("no local memory used");
-    } else if (sm != nullptr) {
-        const int blocks = blocks_by_shared_memory(*sm, o.local_bytes);
-        o.groups_per_cu_by_local = static_cast<std::uint64_t>(blocks);
-    } else if (device.amd_local_mem_per_compute_unit) {
-        o.groups_per_cu_by_local = *device.amd_local_mem_per_compute_unit / o.local_bytes;
-    } else if (device.local_mem_type == "local") {
-        o.groups_per_cu_by_local = device.local_mem_bytes / o.local_bytes;
-    } else {
-        notes.push_back(fmt::format("local memory is emulated in global memory on this device (local memory "
-                                    "type \"{}\"): no per-compute-unit limit",
-                                    device.local_mem_type));
-    }
+    o.groups_per_cu_by_local = groups_by_local(device, sm, o.local_bytes, notes);
 
     if (sm != nullptr) {
         // The calculator's default state: the largest shared-memory carveout. A driver that picks a

@@ -33,6 +33,15 @@ echo "elapsed $SECONDS s"
 for c in "$S/engraved_slab.json --brick-size 0.0625" "$S/engraved_slab.json --brick-size 0.0625 --tolerance 0.008"; do
   echo "== all kernels, new $c"; timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X --kernel-stats 2>&1 | grep -vE '^    level'
 done
+# The leaf evaluation of small builds with twice the work-items a brick (--group 128: the whole
+# evaluation's group; the leaves are the last level of brick_evaluate's lines).
+for c in "$S/engraved_slab.json --brick-size 0.0625" "$S/engraved_slab.json --brick-size 0.0625 --tolerance 0.008" \
+         "$S/engraved_slab.json --tolerance 0.002" "$S/steep_blends.json --tolerance 0.002"; do
+  for g in "" "--group 128"; do
+    o=$(timeout 60 .device/bin/sdfbrick-new -d gpu build $c $X $g --kernel-stats 2>&1)
+    echo "== new $g $c: $(echo "$o" | ev)"; echo "$o" | ks
+  done
+done
 # On an H200 only: the evaluation's entry searched again with these kernels (as d64 on the H100).
 if echo "$GPU" | grep -q H200; then
   timeout 330 .device/bin/sdfbrick-new -d gpu --tuning-db /tmp/tuned.json tune scenes/drops.json scenes/rubble.json \
