@@ -85,17 +85,17 @@ BuildPlan plan_build(const Geometry& g, const Aabb& box, const BuildSettings& s)
     return p;
 }
 
-BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& programs, Scan& scan, const Geometry& g, const BuildSettings& s,
-                         const BuildPlan& plan, measure::Scheduler& scheduler, GeometryBuild& out,
+BuildInputs::BuildInputs(ocl::Device& d, BuildPrograms& k, Scan& sc, const Geometry& g, const BuildSettings& s,
+                         const BuildPlan& p, measure::Scheduler& sched, GeometryBuild& result,
                          const std::vector<SdfEdit>* prepared)
     : device(d),
-      programs(programs),
-      scan(scan),
+      programs(k),
+      scan(sc),
       geometry(g),
       settings(s),
-      plan(plan),
-      scheduler(scheduler),
-      out(out),
+      plan(p),
+      scheduler(sched),
+      out(result),
       converted(prepared ? std::vector<SdfEdit>{} : to_device(g)),
       edits_host(prepared ? *prepared : converted),
       edits(ocl::pooled, d, edits_host),

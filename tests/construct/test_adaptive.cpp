@@ -200,7 +200,9 @@ TEST(ConstructAdaptive, CoarseSamplesRoundWithinTheTolerance) {
     };
     ASSERT_LT(b.coarsest_leaf_level, b.levels - 1);
     EXPECT_LE(rounding(b.coarsest_leaf_level), s.tolerance);
-    if (b.coarsest_leaf_level > 1) EXPECT_GT(rounding(b.coarsest_leaf_level - 1), s.tolerance);
+    if (b.coarsest_leaf_level > 1) {
+        EXPECT_GT(rounding(b.coarsest_leaf_level - 1), s.tolerance);
+    }
     const std::vector<SdfBrick> leaves = b.leaves->read();
     const std::vector<std::uint8_t> pool = b.pool->read();
     const double window = b.band;
@@ -417,7 +419,9 @@ TEST(ConstructAdaptive, NoLeafCandidateIsKeptUntested) {
         for (int level = 1; level < 8; ++level)
             for (bool gpu : {false, true})
                 for (std::uint32_t asked : {0u, 16u}) {
-                    if (level >= coarsest) EXPECT_EQ(untested_from(level, true, coarsest, gpu, asked), kNeverUntested);
+                    if (level >= coarsest) {
+                        EXPECT_EQ(untested_from(level, true, coarsest, gpu, asked), kNeverUntested);
+                    }
                     EXPECT_EQ(untested_from(level, false, coarsest, gpu, asked), kNeverUntested);
                 }
     EXPECT_EQ(untested_from(0, true, 1, false, 0), 0u) << "the root";
