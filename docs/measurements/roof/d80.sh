@@ -1,10 +1,13 @@
 #!/bin/bash
 # d80: the adaptive check's levels with few candidates (at most two waves by the occupancy model) with
 # twice the work-items a brick, in the candidates' evaluation and in brick_check. old: 948f9e9's
-# behaviour (d79's experimental binary, no variables set); new: ad692b7. Two rounds of 10
-# captures, in turn, with the uniform builds at the finest size beside them; then per-level stats.
-# Prepared 2026-12-07, run 2026-12-08. Needs
-# .device/bin/sdfbrick-exp (d79-groups.diff on 948f9e9) and .device/bin/sdfbrick-new (ad692b7).
+# behaviour (d79's experimental binary, no variables set); new: main (ad692b7 or later: the same
+# kernels and rules). Two rounds of 10 captures, in turn, with the uniform builds at the finest size
+# beside them; then per-level stats, every kernel of engraved_slab uniform against adaptive, the leaf
+# evaluation of small builds with --group 128, and on an H200 the evaluation's tuning entry searched
+# again. Prepared 2026-12-07; not run: no device machine came on 2026-12-07 after d79, nor on
+# 2026-12-08 (eleven requests, then lending paused). Needs .device/bin/sdfbrick-exp (d79-groups.diff
+# on 948f9e9) and .device/bin/sdfbrick-new (main's device build).
 source .device/env.sh
 export SDFBRICK_CACHE_DIR=/tmp/sdfcache
 GPU=$(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader); echo "$GPU"
